@@ -1,0 +1,162 @@
+#ifndef dieflow_flow_assembler_h
+#define dieflow_flow_assembler_h
+
+#include <dieflow/material.h>
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+namespace dieflow
+{
+  using dealii::AffineConstraints;
+  using dealii::DoFHandler;
+  using dealii::SparseMatrix;
+  using dealii::Vector;
+
+  /// Which Jacobian to assemble.
+  enum class Linearization
+  {
+    /// eta frozen at the current iterate: successive substitution (the paper's sequence (7)).
+    picard,
+    /// the consistent tangent, including d eta / d epsdot.
+    newton
+  };
+
+  /**
+   * The cell terms of the penalised velocity problem (7)-(9) of the paper:
+   *   R(v; w) = int 2 eta(epsdot(v)) D(v):D(w) dx            (2x2 Gauss)
+   *           + int lambda div v div w dx                     (1 point)
+   *           - int f.w dx,
+   * i.e. sigma = 2 eta D + lambda (div v) I, p = -lambda div v. The penalty
+   * term is integrated at the cell centre only (selective reduced
+   * integration, the Q1-P0 element): full integration locks.
+   *
+   * Newton tangent, with epsdot_reg = sqrt(2/3 D:D + epsdot_min^2):
+   *   dR[dv](w) = int 2 eta D(dv):D(w)
+   *             + (4/3) (d eta/d epsdot) / epsdot_reg (D(v):D(dv)) (D(v):D(w))
+   *             + lambda div dv div w,
+   * symmetric (the problem minimises a convex dissipation potential).
+   */
+  template <int dim>
+  class FlowAssembler
+  {
+  public:
+    /// The Newton tangent's form.
+    enum class Tangent
+    {
+      /// the consistent tangent of R
+      standard,
+      /**
+       * Primal-dual Newton (Isaac, Stadler, Ghattas, SIAM J. Sci. Comput.
+       * 37 (2015) B804): the normalised strain rate S = D/r becomes an
+       * independent unknown at the quadrature points, linearised with v;
+       * after eliminating dS the tangent reads
+       *   2 eta D(dv):D(w) + (4/3) eta' r sym[(S^:D(dv)) (S:D(w))],
+       * and S is updated by its Newton step S + dS = (D + D(dv) - S dr)/r,
+       * scaled to |S| = sqrt(2/3 S:S) <= 1.
+       * Same solution, far fewer iterations for strongly shear-thinning
+       * laws (m << 1), whose standard tangent is too soft where r is small.
+       */
+      primal_dual
+    };
+
+    void
+    set_tangent(const Tangent t)
+    {
+      tangent = t;
+    }
+
+    /**
+     * Primal-dual state: reset S = D(v)/r(v) (@p update null, or a new mesh),
+     * or advance it by the linearised update for the step v -> v + step*update.
+     */
+    void
+    update_dual(const DoFHandler<dim> &dof_handler,
+                const Vector<double> & velocity,
+                const Vector<double> * update,
+                const double           step);
+
+    FlowAssembler(const Material &material, const dealii::Function<dim> *body_force);
+
+    void
+    set_body_force(const dealii::Function<dim> *f)
+    {
+      body_force = f;
+    }
+    const dealii::Function<dim> *
+    body_force_function() const
+    {
+      return body_force;
+    }
+
+    void
+    set_penalty(const double lambda)
+    {
+      penalty = lambda;
+    }
+    double
+    get_penalty() const
+    {
+      return penalty;
+    }
+
+    /**
+     * The Jacobian and the right-hand side -R(v) of the update equation,
+     * condensed with the homogeneous @p update_constraints, and the raw
+     * (unconstrained) residual R(v) whose entries at constrained dofs are
+     * the reaction forces.
+     */
+    void
+    assemble_system(const DoFHandler<dim> &           dof_handler,
+                    const Vector<double> &            velocity,
+                    const AffineConstraints<double> & update_constraints,
+                    const Linearization               linearization,
+                    SparseMatrix<double> &            matrix,
+                    Vector<double> &                  rhs,
+                    Vector<double> &                  raw_residual) const;
+
+    /// As assemble_system() without the matrix: rhs = -R(v) condensed, and the raw R(v).
+    void
+    assemble_residual(const DoFHandler<dim> &          dof_handler,
+                      const Vector<double> &           velocity,
+                      const AffineConstraints<double> &update_constraints,
+                      Vector<double> &                 rhs,
+                      Vector<double> &                 raw_residual) const;
+
+    /// Volume average of eta(epsdot(v)) (2x2 Gauss points).
+    double
+    mean_viscosity(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity) const;
+
+  private:
+    void
+    assemble(const DoFHandler<dim> &           dof_handler,
+             const Vector<double> &            velocity,
+             const AffineConstraints<double> & update_constraints,
+             const Linearization               linearization,
+             SparseMatrix<double> *            matrix,
+             Vector<double> &                  rhs,
+             Vector<double> &                  raw_residual) const;
+
+    unsigned int
+    n_dual_points(const DoFHandler<dim> &dof_handler) const;
+
+    template <typename CellIterator>
+    static unsigned int
+    dual_index(const CellIterator &cell, const unsigned int q)
+    {
+      return cell->active_cell_index() * (dim == 2 ? 4 : 8) + q;
+    }
+
+    const Material *             material;
+    Tangent                      tangent = Tangent::primal_dual;
+    std::vector<dealii::SymmetricTensor<2, dim>> dual;
+    const dealii::Function<dim> *body_force;
+    double                       penalty = 0;
+  };
+} // namespace dieflow
+
+#endif

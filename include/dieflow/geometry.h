@@ -1,0 +1,104 @@
+#ifndef dieflow_geometry_h
+#define dieflow_geometry_h
+
+#include <dieflow/parameters.h>
+
+#include <deal.II/base/point.h>
+#include <deal.II/grid/tria.h>
+
+#include <map>
+#include <string>
+
+namespace dieflow
+{
+  using dealii::Point;
+  using dealii::Triangulation;
+
+  /**
+   * The die2d scene of benchmarks/die2d.md (upper half, x axis = symmetry):
+   *   A = (-L_c, 0), B = (-L_c, h_i), C = (0, h_i), D = (x_d, h_o),
+   *   E = (x_d + L_l, h_o), F = (x_d + L_l, 0),  x_d = (h_i - h_o)/tan(beta),
+   * with boundary ids 1 inlet A-B, 2 outlet E-F, 3 container wall B-C,
+   * 4 die face C-D and land D-E, 5 symmetry F-A.
+   *
+   * The mesh has three structured blocks (container, converging zone, land)
+   * with the same number of cells across; each block has cells of aspect
+   * ratio near one, so the cells shrink with the channel towards the exit.
+   * A flat die (beta = 90) has no converging zone: the container's right
+   * side is split at h_o into the land's inlet and the die face.
+   */
+  struct Die2dGeometry
+  {
+    double       inlet_half_height  = 19;
+    double       outlet_half_height = 4.75;
+    double       die_angle_degrees  = 70;
+    double       container_length   = 20;
+    double       land_length        = 15;
+    unsigned int cells_across       = 4;
+
+    double
+    die_exit_x() const;
+    /// The corner points A..F of the scene.
+    Point<2>
+    corner(const char name) const;
+
+    static constexpr BoundaryId inlet_id     = 1;
+    static constexpr BoundaryId outlet_id    = 2;
+    static constexpr BoundaryId container_id = 3;
+    static constexpr BoundaryId die_id       = 4;
+    static constexpr BoundaryId symmetry_id  = 5;
+  };
+
+  /**
+   * An axis-parallel box [lower, upper] with ids 1 (x = x_min), 2 (x = x_max),
+   * 3 (y = y_min), 4 (y = y_max), 5 (z = z_min), 6 (z = z_max); used by the
+   * exact-solution tests (channels, compression, Couette layers).
+   */
+  struct BoxGeometry
+  {
+    std::vector<double>       lower{0, 0, 0};
+    std::vector<double>       upper{1, 1, 1};
+    std::vector<unsigned int> subdivisions{4, 4, 4};
+    /// Shift of interior vertices, as a fraction of the cell size, to test
+    /// distorted meshes (0: none). Deterministic pseudo-random.
+    double distortion = 0;
+    /// Rotation (degrees, counter-clockwise about the origin; 2D), to test
+    /// inclined walls.
+    double rotation = 0;
+  };
+
+  /**
+   * The deck's "Mesh" subsection: where the mesh comes from and how often it
+   * is refined before the first cycle.
+   */
+  struct MeshParameters
+  {
+    std::string   source = "die2d";
+    Die2dGeometry die2d;
+    BoxGeometry   box;
+    std::string   gmsh_file;
+    unsigned int  global_refinements = 0;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /// Builds the coarse mesh the deck asks for and refines it globally.
+  template <int dim>
+  void
+  make_mesh(const MeshParameters &parameters, Triangulation<dim> &triangulation);
+
+  /**
+   * Checks that the boundary ids the deck assigns and those of the mesh
+   * agree: every id the deck names exists in the mesh, and every id of the
+   * mesh has a condition. @p assigned maps an id to the deck entry naming it.
+   */
+  template <int dim>
+  void
+  check_boundary_ids(const Triangulation<dim> &                   triangulation,
+                     const std::map<BoundaryId, std::string> &assigned);
+} // namespace dieflow
+
+#endif

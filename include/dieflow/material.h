@@ -1,0 +1,179 @@
+#ifndef dieflow_material_h
+#define dieflow_material_h
+
+#include <dieflow/parameters.h>
+
+#include <memory>
+#include <string>
+
+namespace dieflow
+{
+  /**
+   * A viscosity law of the constitutive equation (3) of the paper,
+   *   sigma^D = 2 eta(epsdot_eq) D,  epsdot_eq = sqrt(2/3 D:D),
+   * given by its equivalent stress sigma_eq(epsdot_eq) = 3 eta epsdot_eq
+   * (sigma_eq = sqrt(3/2 s:s)). A law returns eta and d eta / d epsdot at a
+   * strictly positive rate; regularisation and bounds are the Material's.
+   */
+  class ViscosityLaw
+  {
+  public:
+    virtual ~ViscosityLaw() = default;
+
+    /// eta(epsdot) for epsdot > 0.
+    virtual double
+    viscosity(const double rate) const = 0;
+
+    /// d eta / d epsdot for epsdot > 0.
+    virtual double
+    derivative(const double rate) const = 0;
+
+    /// True when eta does not depend on the rate (one linear solve suffices).
+    virtual bool
+    is_linear() const
+    {
+      return false;
+    }
+  };
+
+  /// eta = eta_0.
+  class NewtonianLaw : public ViscosityLaw
+  {
+  public:
+    explicit NewtonianLaw(const double eta);
+    double
+    viscosity(const double rate) const override;
+    double
+    derivative(const double rate) const override;
+    bool
+    is_linear() const override
+    {
+      return true;
+    }
+
+  private:
+    const double eta;
+  };
+
+  /**
+   * Norton-Hoff power law: sigma_eq = K epsdot^m, so
+   *   eta = K/3 epsdot^(m-1),  d eta/d epsdot = (m-1) eta / epsdot.
+   * m = 1 is Newtonian with eta = K/3.
+   */
+  class NortonHoffLaw : public ViscosityLaw
+  {
+  public:
+    NortonHoffLaw(const double K, const double m);
+    double
+    viscosity(const double rate) const override;
+    double
+    derivative(const double rate) const override;
+
+  private:
+    const double K;
+    const double m;
+  };
+
+  /**
+   * Sellars-Tegart (Garofalo) law for hot working:
+   *   sigma_eq = asinh((Z/A)^(1/n)) / alpha,  Z = epsdot exp(Q/(R T)),
+   *   eta = sigma_eq / (3 epsdot).
+   * With s = (Z/A)^(1/n): d sigma_eq/d epsdot = s / (n alpha epsdot sqrt(1+s^2)),
+   * and d eta/d epsdot = (d sigma_eq/d epsdot - 3 eta) / (3 epsdot).
+   * ln(Z/A) is formed as a sum of logarithms so cold temperatures do not
+   * overflow.
+   */
+  class SellarsTegartLaw : public ViscosityLaw
+  {
+  public:
+    SellarsTegartLaw(const double alpha,
+                     const double n,
+                     const double Q,
+                     const double ln_A,
+                     const double temperature);
+    double
+    viscosity(const double rate) const override;
+    double
+    derivative(const double rate) const override;
+
+    /// sigma_eq(epsdot), exposed for the tests.
+    double
+    flow_stress(const double rate) const;
+
+  private:
+    double
+    zener_ratio_root(const double rate) const;
+
+    const double alpha;
+    const double n;
+    const double ln_Z_over_A_shift; // Q/(R T) - ln A
+  };
+
+  /// Viscosity and its rate derivative at one point, with the regularised rate.
+  struct ViscosityValue
+  {
+    /// Effective viscosity eta (after bounds).
+    double eta;
+    /// d eta / d epsdot_reg; zero where a viscosity bound is active.
+    double d_eta;
+    /// Regularised equivalent strain rate epsdot_reg = sqrt(epsdot^2 + epsdot_min^2).
+    double rate;
+  };
+
+  /**
+   * The material: one viscosity law, its regularisation and bounds, and the
+   * penalty factor of the incompressibility term.
+   *
+   * Regularisation: the law is evaluated at
+   *   epsdot_reg = sqrt(epsdot_eq^2 + epsdot_min^2),
+   * which keeps a finite viscosity in rigid zones and a smooth derivative for
+   * Newton; then eta is clipped to [eta_min, eta_max] (d eta = 0 where
+   * clipped).
+   *
+   * Penalty: lambda = (penalty factor) x eta_ref, where eta_ref is the mean
+   * viscosity (the paper's eps = 1e-7 eta_m, eq. (7)); the problem computes
+   * eta_ref once from the first iterate.
+   */
+  class Material
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    ViscosityValue
+    evaluate(const double equivalent_rate) const;
+
+    bool
+    is_newtonian() const
+    {
+      return law->is_linear() && minimum_viscosity <= 0 &&
+             maximum_viscosity >= 1e300;
+    }
+
+    /// Replaces the law by a Newtonian one (the Newtonian start).
+    void
+    set_newtonian(const double eta);
+
+    const ViscosityLaw &
+    viscosity_law() const
+    {
+      return *law;
+    }
+
+    /// Name of the law as in the deck.
+    std::string law_name;
+    double      minimum_strain_rate = 1e-4;
+    double      minimum_viscosity   = 0;
+    double      maximum_viscosity   = 1e300;
+    double      penalty_factor      = 1e7;
+    /// Strain rate at which the Newtonian start evaluates the law (0: auto).
+    double reference_strain_rate = 0;
+
+  private:
+    std::shared_ptr<const ViscosityLaw> law;
+  };
+} // namespace dieflow
+
+#endif

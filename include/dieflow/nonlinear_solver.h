@@ -1,0 +1,127 @@
+#ifndef dieflow_nonlinear_solver_h
+#define dieflow_nonlinear_solver_h
+
+#include <dieflow/flow_assembler.h>
+#include <dieflow/parameters.h>
+
+#include <deal.II/lac/vector.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace dieflow
+{
+  /**
+   * What the nonlinear solver needs of a discrete problem. The state (the
+   * contact active set, stick and slip) is the system's: update_state()
+   * revises it from the current iterate and projects the iterate onto the
+   * resulting constraints.
+   */
+  class NonlinearSystem
+  {
+  public:
+    virtual ~NonlinearSystem() = default;
+
+    /// Revises the state from @p v, projects @p v onto the constraints, and
+    /// returns how many nodes changed state.
+    virtual unsigned int
+    update_state(dealii::Vector<double> &v) = 0;
+
+    /// Assembles J(v) and -R(v); returns the relative residual (see residual()).
+    virtual double
+    assemble_system(const dealii::Vector<double> &v, const Linearization linearization) = 0;
+
+    /// The relative residual ||R(v)|| / ||reactions(v)|| of the free dofs;
+    /// -R(v) (condensed) into @p minus_residual.
+    virtual double
+    residual(const dealii::Vector<double> &v, dealii::Vector<double> &minus_residual) = 0;
+
+    /// -R (condensed) of the last assemble_system().
+    virtual const dealii::Vector<double> &
+    minus_residual() const = 0;
+
+    /// True when R is affine in v (Newtonian, no contact): one Newton step solves it.
+    virtual bool
+    is_linear() const = 0;
+
+    /// Called when the step v -> v + step * update of the given
+    /// linearisation is taken (before v changes), for state that follows the
+    /// iterate (the primal-dual variable).
+    virtual void
+    accept_step(const dealii::Vector<double> &v,
+                const dealii::Vector<double> &update,
+                const double                  step,
+                const Linearization           linearization) = 0;
+
+    /// Solves J du = -R with the last assembled system.
+    virtual void
+    solve(dealii::Vector<double> &update) = 0;
+  };
+
+  /// One line of the iteration log.
+  struct IterationRecord
+  {
+    unsigned int  iteration;
+    Linearization linearization;
+    double        residual;
+    double        update;
+    double        step;
+    unsigned int  state_changes;
+  };
+
+  struct NonlinearResult
+  {
+    bool                         converged     = false;
+    unsigned int                 iterations    = 0;
+    unsigned int                 linear_solves = 0;
+    std::vector<IterationRecord> history;
+    /// Why it stopped without convergence, and what to change.
+    std::string failure;
+  };
+
+  /**
+   * Picard (the paper's successive substitution with its relative-update
+   * test), Newton with the consistent tangent and a backtracking (Armijo)
+   * line search on the residual norm, or Picard then Newton.
+   *
+   * Converged when no node changed state and either the relative residual
+   * ||R|| / ||reactions|| is below the residual tolerance, or the last relative
+   * update ||du|| / ||v|| is below the update tolerance. Newton updates
+   * smaller than 1e-6 ||v|| are taken whole (the quadratic regime). A Newton step that
+   * the line search cannot make reduce the residual is replaced by a Picard
+   * step (the Picard matrix is positive definite).
+   */
+  class NonlinearSolver
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /// Iterates from @p v (overwritten with the result), logging a line per iteration.
+    NonlinearResult
+    solve(NonlinearSystem &system, dealii::Vector<double> &v, std::ostream &log) const;
+
+  private:
+    /// The accepted fraction of the Newton step @p update from @p v (0: none).
+    double
+    line_search_step(NonlinearSystem &             system,
+                     const dealii::Vector<double> &v,
+                     const dealii::Vector<double> &update,
+                     dealii::Vector<double> &      trial,
+                     const double                  residual) const;
+
+  public:
+    std::string  method                     = "Newton";
+    unsigned int maximum_iterations         = 50;
+    double       residual_tolerance         = 1e-8;
+    double       update_tolerance           = 1e-8;
+    unsigned int picard_iterations          = 2;
+    bool         line_search                = true;
+    unsigned int maximum_line_search_steps  = 8;
+  };
+} // namespace dieflow
+
+#endif

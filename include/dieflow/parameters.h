@@ -1,0 +1,76 @@
+#ifndef dieflow_parameters_h
+#define dieflow_parameters_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/types.h>
+
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dieflow
+{
+  using dealii::ParameterHandler;
+  using BoundaryId = dealii::types::boundary_id;
+
+  /**
+   * Bad user input: a deck entry, a mesh, or data that contradict each other.
+   * The message is one line that names the entry and says what is wrong; the
+   * program prints it and exits with status 1.
+   */
+  class InputError : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
+  /**
+   * Top-level entries of the deck: what runs and where the results go.
+   */
+  struct RunParameters
+  {
+    unsigned int dimension        = 2;
+    std::string  output_directory = "output/die2d";
+    bool         write_vtu        = true;
+    bool         write_mesh_svg   = false;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /**
+   * Parses a comma-separated list of boundary ids ("3, 4"); the entry name
+   * goes into the error message.
+   */
+  std::set<BoundaryId>
+  parse_id_list(const std::string &entry, const std::string &text);
+
+  /**
+   * Parses a comma-separated list "id: value, id: value" of numbers per
+   * boundary id, as used for friction coefficients.
+   */
+  std::vector<std::pair<BoundaryId, double>>
+  parse_id_value_map(const std::string &entry, const std::string &text);
+
+  /**
+   * Turns any exception raised while reading a deck (deal.II's
+   * ParameterHandler exceptions included) into one line of text.
+   */
+  std::string
+  one_line_message(const std::exception &exc);
+
+  /**
+   * Throws InputError("ENTRY: REASON") unless @p condition holds.
+   */
+  inline void
+  require(const bool condition, const std::string &entry, const std::string &reason)
+  {
+    if (!condition)
+      throw InputError(entry + ": " + reason);
+  }
+} // namespace dieflow
+
+#endif

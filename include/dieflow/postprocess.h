@@ -1,0 +1,83 @@
+#ifndef dieflow_postprocess_h
+#define dieflow_postprocess_h
+
+#include <dieflow/boundary_conditions.h>
+#include <dieflow/material.h>
+#include <dieflow/wall_nodes.h>
+
+#include <deal.II/base/function.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/vector.h>
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dieflow
+{
+  using dealii::Vector;
+
+  /// Integral of v.n over each boundary part (all ids of the mesh).
+  template <int dim>
+  std::map<BoundaryId, double>
+  boundary_fluxes(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+
+  /**
+   * Integral of the traction sigma n over each boundary part, from the
+   * reaction forces: the unconstrained residual R_i = int sigma(v):grad phi_i
+   * - f.phi_i is, at a boundary node, int_Gamma (sigma n).phi_i ds, so summing
+   * it over a part's nodes gives the part's force exactly for the discrete
+   * solution (and more accurately than integrating the Q1 stress, which is
+   * one order lower). The parts' forces sum to minus the body force, a
+   * conservation check. A node shared by several parts: traction-free parts
+   * carry nothing; a prescribed-velocity part takes the whole reaction; between
+   * walls the reaction is split along the walls' normals.
+   */
+  template <int dim>
+  std::map<BoundaryId, std::vector<double>>
+  boundary_forces(const DoFHandler<dim> &          dof_handler,
+                  const Vector<double> &           reactions,
+                  const BoundaryConditions<dim> &  boundary_conditions,
+                  const std::vector<WallNode<dim>> &wall_nodes);
+
+  /**
+   * ||div v|| / ||grad v|| in L2, with div v at the cell centres: what the
+   * one-point penalty controls (the cell mean of div v on parallelograms, the
+   * discrete mass balance of the Q1-P0 pair).
+   */
+  template <int dim>
+  double
+  divergence_ratio(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+
+  /// L2 norm of v - v_exact and of grad (v - v_exact) (3x3 Gauss points).
+  template <int dim>
+  std::pair<double, double>
+  velocity_errors(const DoFHandler<dim> &        dof_handler,
+                  const Vector<double> &         velocity,
+                  const dealii::Function<dim> &  exact);
+
+  /// Penalty pressure p = -lambda div v at each cell centre.
+  template <int dim>
+  Vector<double>
+  cell_pressure(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity, const double penalty);
+
+  /**
+   * Writes velocity, pressure (the cell-centre penalty pressure, and its
+   * area-weighted average at the vertices, which filters the checkerboard
+   * mode of Q1-P0), equivalent strain rate and stress, and viscosity as
+   * VTU, and appends the file to the PVD index of the run.
+   */
+  template <int dim>
+  void
+  write_vtu(const DoFHandler<dim> &                               dof_handler,
+            const Vector<double> &                                velocity,
+            const Material &                                      material,
+            const double                                          penalty,
+            const std::map<std::string, Vector<double>> &        nodal_fields,
+            const std::string &                                   directory,
+            const unsigned int                                    cycle,
+            std::vector<std::pair<double, std::string>> &         pvd_records);
+} // namespace dieflow
+
+#endif

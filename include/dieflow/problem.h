@@ -1,0 +1,132 @@
+#ifndef dieflow_problem_h
+#define dieflow_problem_h
+
+#include <dieflow/boundary_conditions.h>
+#include <dieflow/flow_assembler.h>
+#include <dieflow/geometry.h>
+#include <dieflow/linear_solver.h>
+#include <dieflow/material.h>
+#include <dieflow/nonlinear_solver.h>
+#include <dieflow/parameters.h>
+#include <dieflow/summary.h>
+#include <dieflow/wall_nodes.h>
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+
+#include <memory>
+#include <ostream>
+
+namespace dieflow
+{
+  /// What the second reading of a deck declares beyond the fixed entries.
+  struct DeckLayout
+  {
+    unsigned int         dimension = 2;
+    std::set<BoundaryId> velocity_ids{1};
+  };
+
+  /// The deck's "Refinement" subsection.
+  struct RefinementParameters
+  {
+    unsigned int cycles   = 1;
+    std::string  strategy = "global";
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /**
+   * The steady die-flow problem: owns the mesh, the dofs and the pieces of
+   * the deck, and runs the refinement cycles:
+   *   mesh -> dofs and constraints -> [assemble -> solve -> update state]
+   *   until converged -> postprocess -> refine -> next cycle.
+   */
+  template <int dim>
+  class DieFlowProblem : public NonlinearSystem
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm, const DeckLayout &layout);
+
+    DieFlowProblem(ParameterHandler &prm, std::ostream &log);
+
+    /// Runs every cycle; writes summary.json (also when it fails to converge).
+    RunSummary
+    run();
+
+    unsigned int
+    update_state(Vector<double> &v) override;
+    double
+    assemble_system(const Vector<double> &v, const Linearization linearization) override;
+    double
+    residual(const Vector<double> &v, Vector<double> &minus_residual) override;
+    const Vector<double> &
+    minus_residual() const override
+    {
+      return system_rhs;
+    }
+    void
+    solve(Vector<double> &update) override;
+    bool
+    is_linear() const override;
+    void
+    accept_step(const Vector<double> &v,
+                const Vector<double> &update,
+                const double          step,
+                const Linearization   linearization) override;
+
+  private:
+    void
+    setup_system();
+    void
+    newtonian_start();
+    void
+    postprocess(CycleSummary &summary);
+    void
+    refine_mesh();
+    double
+    relative_residual(const Vector<double> &minus_residual) const;
+
+    RunParameters                              run_parameters;
+    MeshParameters                             mesh_parameters;
+    Material                                   material;
+    BoundaryConditions<dim>                    boundary_conditions;
+    NonlinearSolver                            nonlinear_solver;
+    LinearSolver                               linear_solver;
+    RefinementParameters                       refinement;
+    std::unique_ptr<dealii::FunctionParser<dim>> exact_velocity;
+
+    std::ostream &log;
+
+    dealii::Triangulation<dim> triangulation;
+    dealii::FESystem<dim>      fe;
+    dealii::DoFHandler<dim>    dof_handler;
+
+    AffineConstraints<double>  hanging_node_constraints;
+    AffineConstraints<double>  constraints;
+    AffineConstraints<double>  update_constraints;
+    std::vector<WallNode<dim>> wall_nodes;
+
+    dealii::SparsityPattern      sparsity_pattern;
+    dealii::SparseMatrix<double> system_matrix;
+    Vector<double>               velocity;
+    Vector<double>               system_rhs;
+    Vector<double>               raw_residual;
+
+    FlowAssembler<dim> assembler;
+    double             mean_viscosity = 0;
+    unsigned int       start_solves   = 0;
+
+    std::vector<std::pair<double, std::string>> pvd_records;
+  };
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,46 @@
+#ifndef dieflow_run_h
+#define dieflow_run_h
+
+#include <dieflow/parameters.h>
+#include <dieflow/summary.h>
+
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace dieflow
+{
+  /// Exit statuses of the program (interface.md).
+  enum ExitStatus
+  {
+    exit_converged     = 0,
+    exit_bad_input     = 1,
+    exit_not_converged = 2,
+    exit_internal      = 3
+  };
+
+  /**
+   * Reads a deck in two passes: the first (tolerating undeclared entries)
+   * finds the dimension and the boundary ids that get subsections of their
+   * own, the second declares those and reads the deck strictly. @p extra
+   * declares further entries (the test driver's "Test" subsection).
+   */
+  void
+  read_deck(const std::string &                            file_name,
+            ParameterHandler &                             prm,
+            const std::function<void(ParameterHandler &)> &extra = {});
+
+  /// Declares the default deck (die2d) for printing.
+  void
+  declare_default_deck(ParameterHandler &prm);
+
+  /// Runs the deck read into @p prm, logging to @p log.
+  RunSummary
+  run_deck(ParameterHandler &prm, std::ostream &log);
+
+  /// The command line of the program: returns the exit status.
+  int
+  run_command_line(int argc, char **argv);
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,63 @@
+#ifndef dieflow_summary_h
+#define dieflow_summary_h
+
+#include <dieflow/nonlinear_solver.h>
+#include <dieflow/parameters.h>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dieflow
+{
+  /// Node counts of the contact state.
+  struct ContactCounts
+  {
+    unsigned int separated = 0;
+    unsigned int stick     = 0;
+    unsigned int slip      = 0;
+  };
+
+  /// What one refinement cycle reports (interface.md, summary.json).
+  struct CycleSummary
+  {
+    unsigned int cycle                = 0;
+    unsigned int cells                = 0;
+    unsigned int dofs                 = 0;
+    bool         converged            = false;
+    unsigned int nonlinear_iterations = 0;
+    unsigned int linear_solves        = 0;
+    unsigned int contact_assemblies   = 0;
+    /// Integral of the traction sigma n over each boundary part (N/mm in 2D).
+    std::map<BoundaryId, std::vector<double>> boundary_force;
+    /// Integral of v.n over each boundary part (mm^2/s in 2D).
+    std::map<BoundaryId, double> flux;
+    std::map<BoundaryId, double> die_normal_force;
+    std::map<BoundaryId, double> die_friction_force;
+    ContactCounts                contact_nodes;
+    /// ||div v||_L2 / ||grad v||_L2, div v at the cell centres.
+    double                divergence_ratio = 0;
+    std::optional<double> velocity_l2_error;
+    std::optional<double> velocity_h1_error;
+    /// The penalty lambda and the mean viscosity it was made from.
+    double penalty           = 0;
+    double mean_viscosity    = 0;
+    double wall_time         = 0;
+    std::vector<IterationRecord> history;
+  };
+
+  struct RunSummary
+  {
+    bool                      converged = false;
+    double                    wall_time = 0;
+    std::string               failure;
+    std::vector<CycleSummary> cycles;
+  };
+
+  /// Writes @p summary as JSON (the summary.json contract of interface.md).
+  void
+  write_summary_json(const RunSummary &summary, const std::string &file_name);
+} // namespace dieflow
+
+#endif

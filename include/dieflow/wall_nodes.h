@@ -1,0 +1,83 @@
+#ifndef dieflow_wall_nodes_h
+#define dieflow_wall_nodes_h
+
+#include <dieflow/parameters.h>
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/affine_constraints.h>
+
+#include <array>
+#include <set>
+#include <vector>
+
+namespace dieflow
+{
+  using dealii::AffineConstraints;
+  using dealii::DoFHandler;
+  using dealii::Tensor;
+  using GlobalDof = dealii::types::global_dof_index;
+
+  /**
+   * One facet direction at a wall node: the outward unit normal of the wall
+   * facets that share it, their boundary id, and the lumped boundary weight
+   * w = integral of the node's basis function over those facets.
+   */
+  template <int dim>
+  struct WallDirection
+  {
+    Tensor<1, dim> normal;
+    BoundaryId     id;
+    double         weight;
+  };
+
+  /**
+   * A vertex on the walls (slip walls, symmetry lines, die contact parts):
+   * its velocity dofs and the distinct facet normals that meet there.
+   *
+   * Facets whose normals differ by less than the corner angle are one
+   * direction (their weighted mean normal): a straight or gently curved wall.
+   * Two or more directions make a corner. The kinematic rule at a corner is
+   * one condition per direction, v.n_k = 0 (or <= 0 for contact), so a node
+   * where two walls of a 2D corner both hold is at rest: exact at the convex
+   * corners of the metal (the die entry C) and the limit of the continuous
+   * solution at re-entrant ones (the die exit D), where a continuous velocity
+   * tangent to both walls vanishes.
+   */
+  template <int dim>
+  struct WallNode
+  {
+    std::array<GlobalDof, dim>        dofs;
+    dealii::Point<dim>                position;
+    std::vector<WallDirection<dim>>   directions;
+  };
+
+  /**
+   * Collects the wall nodes on the faces with the given boundary ids. Hanging
+   * vertices (constrained in @p hanging_node_constraints) are not nodes:
+   * their weights go to the vertices they hang from.
+   */
+  template <int dim>
+  std::vector<WallNode<dim>>
+  collect_wall_nodes(const DoFHandler<dim> &            dof_handler,
+                     const std::set<BoundaryId> &       ids,
+                     const AffineConstraints<double> &  hanging_node_constraints,
+                     const double                       corner_angle_degrees);
+
+  /**
+   * Adds the constraints n_k . v = g_k for the given directions of one node
+   * (k = 0..normals.size()-1), solved for the velocity components that no
+   * other constraint holds yet (Gauss-Jordan with pivoting, so no line refers
+   * to another). Components already constrained (a prescribed velocity, a
+   * hanging node) stay as they are and enter as known terms.
+   */
+  template <int dim>
+  void
+  constrain_normal_components(const std::array<GlobalDof, dim> &      dofs,
+                              const std::vector<Tensor<1, dim>> &     normals,
+                              const std::vector<double> &             values,
+                              AffineConstraints<double> &             constraints);
+} // namespace dieflow
+
+#endif

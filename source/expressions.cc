@@ -1,0 +1,69 @@
+#include <dieflow/expressions.h>
+
+#include <deal.II/base/utilities.h>
+#include <deal.II/lac/vector.h>
+
+#include <cmath>
+
+namespace dieflow
+{
+  std::map<std::string, double>
+  parse_constants(const std::string &entry, const std::string &text)
+  {
+    std::map<std::string, double> constants;
+    for (const auto &item : dealii::Utilities::split_string_list(text, ','))
+      {
+        if (item.empty())
+          continue;
+        const auto parts = dealii::Utilities::split_string_list(item, '=');
+        require(parts.size() == 2 && !parts[0].empty(),
+                entry,
+                "'" + item + "' is not of the form 'name=value'");
+        char *       end   = nullptr;
+        const double value = std::strtod(parts[1].c_str(), &end);
+        require(end != parts[1].c_str() && *end == '\0' && std::isfinite(value),
+                entry,
+                "the value of constant '" + parts[0] + "' is not a finite number");
+        constants[parts[0]] = value;
+      }
+    return constants;
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<dealii::FunctionParser<dim>>
+  parse_vector_expression(const std::string &entry,
+                          const std::string &expression,
+                          const std::string &constants_text)
+  {
+    const auto components = dealii::Utilities::split_string_list(expression, ';');
+    require(components.size() == dim,
+            entry,
+            "'" + expression + "' has " + std::to_string(components.size()) +
+              " components separated by ';', but Dimension = " +
+              std::to_string(dim) + " needs " + std::to_string(dim));
+    const auto constants = parse_constants(entry, constants_text);
+
+    auto function = std::make_unique<dealii::FunctionParser<dim>>(dim);
+    try
+      {
+        function->initialize(dim == 2 ? "x,y" : "x,y,z", components, constants);
+        // muparser compiles lazily: evaluate once so that syntax errors and
+        // unknown names surface here, while the entry is known.
+        dealii::Vector<double> probe(dim);
+        function->vector_value(dealii::Point<dim>(), probe);
+      }
+    catch (const std::exception &exc)
+      {
+        throw InputError(entry + ": cannot parse '" + expression +
+                         "': " + one_line_message(exc));
+      }
+    return function;
+  }
+
+  template std::unique_ptr<dealii::FunctionParser<2>>
+  parse_vector_expression<2>(const std::string &, const std::string &, const std::string &);
+  template std::unique_ptr<dealii::FunctionParser<3>>
+  parse_vector_expression<3>(const std::string &, const std::string &, const std::string &);
+} // namespace dieflow

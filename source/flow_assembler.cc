@@ -1,0 +1,286 @@
+#include <dieflow/flow_assembler.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/work_stream.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
+
+namespace dieflow
+{
+  namespace
+  {
+    template <int dim>
+    struct ScratchData
+    {
+      ScratchData(const dealii::FiniteElement<dim> &fe)
+        : viscous(fe,
+                  dealii::QGauss<dim>(2),
+                  dealii::update_values | dealii::update_gradients |
+                    dealii::update_JxW_values | dealii::update_quadrature_points)
+        , centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values)
+        , symmetric_gradients(fe.n_dofs_per_cell())
+        , strain_projections(fe.n_dofs_per_cell())
+        , dual_projections(fe.n_dofs_per_cell())
+        , local_velocity(fe.n_dofs_per_cell())
+        , force(dim)
+      {}
+
+      ScratchData(const ScratchData &other)
+        : ScratchData(other.viscous.get_fe())
+      {}
+
+      dealii::FEValues<dim>                             viscous;
+      dealii::FEValues<dim>                             centre;
+      std::vector<dealii::SymmetricTensor<2, dim>>      symmetric_gradients;
+      std::vector<double>                               strain_projections;
+      std::vector<double>                               dual_projections;
+      std::vector<double>                               local_velocity;
+      dealii::Vector<double>                            force;
+    };
+
+    struct CopyData
+    {
+      dealii::FullMatrix<double>                   matrix;
+      dealii::Vector<double>                       residual;
+      std::vector<dealii::types::global_dof_index> dofs;
+    };
+  } // namespace
+
+
+
+  template <int dim>
+  FlowAssembler<dim>::FlowAssembler(const Material &material, const dealii::Function<dim> *body_force)
+    : material(&material)
+    , body_force(body_force)
+  {}
+
+
+
+  template <int dim>
+  void
+  FlowAssembler<dim>::assemble(const DoFHandler<dim> &          dof_handler,
+                               const Vector<double> &           velocity,
+                               const AffineConstraints<double> &update_constraints,
+                               const Linearization              linearization,
+                               SparseMatrix<double> *           matrix,
+                               Vector<double> &                 rhs,
+                               Vector<double> &                 raw_residual) const
+  {
+    Assert(penalty > 0, dealii::ExcMessage("The penalty has not been set."));
+    const auto &       fe            = dof_handler.get_fe();
+    const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    const bool                               newton = (linearization == Linearization::newton);
+    const bool use_dual = (tangent == Tangent::primal_dual) && dual.size() == n_dual_points(dof_handler);
+
+    if (matrix != nullptr)
+      *matrix = 0;
+    rhs.reinit(dof_handler.n_dofs());
+    raw_residual.reinit(dof_handler.n_dofs());
+
+    const auto worker = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+                            ScratchData<dim> &                                    scratch,
+                            CopyData &                                            copy) {
+      copy.dofs.resize(dofs_per_cell);
+      cell->get_dof_indices(copy.dofs);
+      copy.residual.reinit(dofs_per_cell);
+      if (matrix != nullptr)
+        copy.matrix.reinit(dofs_per_cell, dofs_per_cell);
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        scratch.local_velocity[i] = velocity[copy.dofs[i]];
+
+      // Viscous term, 2x2 Gauss points.
+      scratch.viscous.reinit(cell);
+      const auto &viscous = scratch.viscous;
+      for (const unsigned int q : viscous.quadrature_point_indices())
+        {
+          dealii::SymmetricTensor<2, dim> D;
+          for (unsigned int i = 0; i < dofs_per_cell; ++i)
+            {
+              scratch.symmetric_gradients[i] = viscous[velocities].symmetric_gradient(i, q);
+              D += scratch.local_velocity[i] * scratch.symmetric_gradients[i];
+            }
+          const auto   value = material->evaluate(std::sqrt(2. / 3. * (D * D)));
+          const double JxW   = viscous.JxW(q);
+          if (body_force != nullptr)
+            body_force->vector_value(viscous.quadrature_point(q), scratch.force);
+
+          for (unsigned int i = 0; i < dofs_per_cell; ++i)
+            {
+              double r = 2. * value.eta * (D * scratch.symmetric_gradients[i]);
+              if (body_force != nullptr)
+                r -= scratch.force[fe.system_to_component_index(i).first] *
+                     viscous.shape_value(i, q);
+              copy.residual[i] += r * JxW;
+            }
+          if (matrix == nullptr)
+            continue;
+          // Standard Newton: (4/3) eta' r (S^:D(dv)) (S^:D(w)), S^ = D/r. The
+          // primal-dual variant replaces one S^ by the dual iterate S and
+          // symmetrises; with S = S^ both agree.
+          const double newton_factor = newton ? 4. / 3. * value.d_eta * value.rate : 0.;
+          const auto   S_hat         = D / value.rate;
+          const auto & S = (newton && use_dual) ? dual[dual_index(cell, q)] : S_hat;
+          for (unsigned int i = 0; i < dofs_per_cell; ++i)
+            {
+              scratch.strain_projections[i] = S_hat * scratch.symmetric_gradients[i];
+              scratch.dual_projections[i]   = S * scratch.symmetric_gradients[i];
+            }
+          for (unsigned int i = 0; i < dofs_per_cell; ++i)
+            for (unsigned int j = 0; j <= i; ++j)
+              copy.matrix(i, j) +=
+                (2. * value.eta * (scratch.symmetric_gradients[i] * scratch.symmetric_gradients[j]) +
+                 newton_factor * 0.5 *
+                   (scratch.strain_projections[i] * scratch.dual_projections[j] +
+                    scratch.dual_projections[i] * scratch.strain_projections[j])) *
+                JxW;
+        }
+
+      // Penalty term at the cell centre.
+      scratch.centre.reinit(cell);
+      const double JxW        = scratch.centre.JxW(0);
+      double       divergence = 0;
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        divergence += scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0);
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        {
+          const double div_i = scratch.centre[velocities].divergence(i, 0);
+          copy.residual[i] += penalty * divergence * div_i * JxW;
+          if (matrix != nullptr)
+            for (unsigned int j = 0; j <= i; ++j)
+              copy.matrix(i, j) +=
+                penalty * div_i * scratch.centre[velocities].divergence(j, 0) * JxW;
+        }
+
+      if (matrix != nullptr)
+        for (unsigned int i = 0; i < dofs_per_cell; ++i)
+          for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
+            copy.matrix(i, j) = copy.matrix(j, i);
+    };
+
+    const auto copier = [&](const CopyData &copy) {
+      for (unsigned int i = 0; i < copy.dofs.size(); ++i)
+        raw_residual[copy.dofs[i]] += copy.residual[i];
+      Vector<double> minus_residual(copy.residual);
+      minus_residual *= -1.;
+      if (matrix != nullptr)
+        update_constraints.distribute_local_to_global(copy.matrix, minus_residual, copy.dofs, *matrix, rhs);
+      else
+        update_constraints.distribute_local_to_global(minus_residual, copy.dofs, rhs);
+    };
+
+    dealii::WorkStream::run(dof_handler.begin_active(),
+                            dof_handler.end(),
+                            worker,
+                            copier,
+                            ScratchData<dim>(fe),
+                            CopyData());
+  }
+
+
+
+  template <int dim>
+  void
+  FlowAssembler<dim>::assemble_system(const DoFHandler<dim> &          dof_handler,
+                                      const Vector<double> &           velocity,
+                                      const AffineConstraints<double> &update_constraints,
+                                      const Linearization              linearization,
+                                      SparseMatrix<double> &           matrix,
+                                      Vector<double> &                 rhs,
+                                      Vector<double> &                 raw_residual) const
+  {
+    assemble(dof_handler, velocity, update_constraints, linearization, &matrix, rhs, raw_residual);
+  }
+
+
+
+  template <int dim>
+  void
+  FlowAssembler<dim>::assemble_residual(const DoFHandler<dim> &          dof_handler,
+                                        const Vector<double> &           velocity,
+                                        const AffineConstraints<double> &update_constraints,
+                                        Vector<double> &                 rhs,
+                                        Vector<double> &                 raw_residual) const
+  {
+    assemble(dof_handler, velocity, update_constraints, Linearization::picard, nullptr, rhs, raw_residual);
+  }
+
+
+
+  template <int dim>
+  double
+  FlowAssembler<dim>::mean_viscosity(const DoFHandler<dim> &dof_handler,
+                                     const Vector<double> & velocity) const
+  {
+    dealii::FEValues<dim> fe_values(dof_handler.get_fe(),
+                                    dealii::QGauss<dim>(2),
+                                    dealii::update_gradients | dealii::update_JxW_values);
+    const dealii::FEValuesExtractors::Vector     velocities(0);
+    std::vector<dealii::SymmetricTensor<2, dim>> D(fe_values.n_quadrature_points);
+    double                                       integral = 0, volume = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        fe_values[velocities].get_function_symmetric_gradients(velocity, D);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            integral += material->evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).eta * fe_values.JxW(q);
+            volume += fe_values.JxW(q);
+          }
+      }
+    return integral / volume;
+  }
+
+  template <int dim>
+  unsigned int
+  FlowAssembler<dim>::n_dual_points(const DoFHandler<dim> &dof_handler) const
+  {
+    return dof_handler.get_triangulation().n_active_cells() * dealii::QGauss<dim>(2).size();
+  }
+
+
+
+  template <int dim>
+  void
+  FlowAssembler<dim>::update_dual(const DoFHandler<dim> &dof_handler,
+                                  const Vector<double> & velocity,
+                                  const Vector<double> * update,
+                                  const double           step)
+  {
+    dealii::FEValues<dim> fe_values(dof_handler.get_fe(), dealii::QGauss<dim>(2), dealii::update_gradients);
+    const dealii::FEValuesExtractors::Vector     velocities(0);
+    std::vector<dealii::SymmetricTensor<2, dim>> D(fe_values.n_quadrature_points),
+      dD(fe_values.n_quadrature_points);
+    const bool reset = (update == nullptr) || dual.size() != n_dual_points(dof_handler);
+    if (reset)
+      dual.resize(n_dual_points(dof_handler));
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        fe_values[velocities].get_function_symmetric_gradients(velocity, D);
+        if (!reset)
+          fe_values[velocities].get_function_symmetric_gradients(*update, dD);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            const double rate = material->evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).rate;
+            auto &       S    = dual[dual_index(cell, q)];
+            if (reset)
+              S = D[q] / rate;
+            else
+              {
+                // Newton step for S r(v) = D(v): S + dS = (D + dD - S dr)/r,
+                // dr = (2/3) D:dD / r.
+                const double d_rate = 2. / 3. * (D[q] * dD[q]) / rate;
+                S += step * ((D[q] + dD[q] - S * d_rate) / rate - S);
+              }
+            // |S| = sqrt(2/3 S:S) <= 1, as for S^ = D/r.
+            const double norm = std::sqrt(2. / 3. * (S * S));
+            if (norm > 1)
+              S /= norm;
+          }
+      }
+  }
+
+  template class FlowAssembler<2>;
+} // namespace dieflow

@@ -1,0 +1,446 @@
+#include <dieflow/geometry.h>
+
+#include <deal.II/base/utilities.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+
+namespace dieflow
+{
+  double
+  Die2dGeometry::die_exit_x() const
+  {
+    const double beta = die_angle_degrees * dealii::numbers::PI / 180.;
+    // cos(90 deg) is not exactly zero in floating point.
+    return (die_angle_degrees == 90.) ?
+             0. :
+             (inlet_half_height - outlet_half_height) / std::tan(beta);
+  }
+
+  Point<2>
+  Die2dGeometry::corner(const char name) const
+  {
+    const double x_d = die_exit_x();
+    const double x_e = x_d + land_length;
+    switch (name)
+      {
+        case 'A':
+          return {-container_length, 0};
+        case 'B':
+          return {-container_length, inlet_half_height};
+        case 'C':
+          return {0, inlet_half_height};
+        case 'D':
+          return {x_d, outlet_half_height};
+        case 'E':
+          return {x_e, outlet_half_height};
+        case 'F':
+          return {x_e, 0};
+        default:
+          Assert(false, dealii::ExcInternalError());
+          return {};
+      }
+  }
+
+
+
+  void
+  MeshParameters::declare_parameters(ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Mesh");
+    {
+      prm.declare_entry("Source",
+                        "die2d",
+                        Selection("die2d|box|gmsh"),
+                        "Where the coarse mesh comes from: the built-in die2d "
+                        "scene (subsection Die2d), an axis-parallel box "
+                        "(subsection Box), or a Gmsh file whose physical groups "
+                        "are the boundary ids.");
+      prm.declare_entry("Gmsh file",
+                        "",
+                        Anything(),
+                        "Gmsh .msh file (format 2 or 4) of quadrilaterals "
+                        "(hexahedra in 3D) for Source = gmsh; the physical group "
+                        "number of each boundary line (surface) is its boundary id.");
+      prm.declare_entry("Global refinements",
+                        "0",
+                        Integer(0, 12),
+                        "Number of uniform refinements of the coarse mesh before "
+                        "the first cycle.");
+
+      prm.enter_subsection("Die2d");
+      {
+        prm.declare_entry("Inlet half height",
+                          "19",
+                          Double(),
+                          "h_i/2 (mm): half height of the container (inlet).");
+        prm.declare_entry("Outlet half height",
+                          "4.75",
+                          Double(),
+                          "h_o/2 (mm): half height of the land (outlet).");
+        prm.declare_entry("Die angle",
+                          "70",
+                          Double(),
+                          "Semi-angle beta (degrees) between the die face and the "
+                          "axis, in (0, 90]; 90 is a flat (square) die.");
+        prm.declare_entry("Container length",
+                          "20",
+                          Double(),
+                          "Length (mm) of the container from the inlet to the die "
+                          "entry C.");
+        prm.declare_entry("Land length",
+                          "15",
+                          Double(),
+                          "Length (mm) of the land from the die exit D to the "
+                          "outlet.");
+        prm.declare_entry("Cells across",
+                          "4",
+                          Integer(1, 4096),
+                          "Number of cells across the channel in every block; the "
+                          "number along each block follows for cells of aspect "
+                          "ratio near one.");
+      }
+      prm.leave_subsection();
+
+      prm.enter_subsection("Box");
+      {
+        prm.declare_entry("Lower corner",
+                          "0, 0",
+                          List(Double(), 2, 3),
+                          "Lower corner of the box (one coordinate per dimension).");
+        prm.declare_entry("Upper corner",
+                          "1, 1",
+                          List(Double(), 2, 3),
+                          "Upper corner of the box.");
+        prm.declare_entry("Subdivisions",
+                          "4, 4",
+                          List(Integer(1, 100000), 2, 3),
+                          "Number of cells along each axis.");
+        prm.declare_entry("Rotation",
+                          "0",
+                          Double(-360, 360),
+                          "Rotation of the box (degrees, counter-clockwise about "
+                          "the origin; 2D only), for inclined walls.");
+        prm.declare_entry("Distortion",
+                          "0",
+                          Double(0, 0.45),
+                          "Shift of every interior vertex by up to this fraction of "
+                          "the cell size in each direction (deterministic), to "
+                          "test distorted meshes.");
+      }
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  namespace
+  {
+    std::vector<double>
+    get_double_list(ParameterHandler &prm, const std::string &entry)
+    {
+      std::vector<double> values;
+      for (const auto &item : dealii::Utilities::split_string_list(prm.get(entry)))
+        values.push_back(dealii::Utilities::string_to_double(item));
+      return values;
+    }
+  } // namespace
+
+
+
+  void
+  MeshParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Mesh");
+    source             = prm.get("Source");
+    gmsh_file          = prm.get("Gmsh file");
+    global_refinements = prm.get_integer("Global refinements");
+    if (source == "gmsh")
+      require(!gmsh_file.empty(), "Mesh/Gmsh file", "is empty but Source = gmsh");
+
+    prm.enter_subsection("Die2d");
+    {
+      const auto positive = [&](const std::string &entry) {
+        const double value = prm.get_double(entry);
+        require(std::isfinite(value) && value > 0,
+                "Mesh/Die2d/" + entry,
+                "must be positive, got " + prm.get(entry));
+        return value;
+      };
+      die2d.inlet_half_height  = positive("Inlet half height");
+      die2d.outlet_half_height = positive("Outlet half height");
+      die2d.die_angle_degrees  = positive("Die angle");
+      die2d.container_length   = positive("Container length");
+      die2d.land_length        = positive("Land length");
+      die2d.cells_across       = prm.get_integer("Cells across");
+      require(die2d.outlet_half_height < die2d.inlet_half_height,
+              "Mesh/Die2d/Outlet half height",
+              "must be smaller than Inlet half height (a die reduces the section)");
+      require(die2d.die_angle_degrees <= 90,
+              "Mesh/Die2d/Die angle",
+              "must lie in (0, 90] degrees, got " + prm.get("Die angle"));
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Box");
+    {
+      box.lower = get_double_list(prm, "Lower corner");
+      box.upper = get_double_list(prm, "Upper corner");
+      box.subdivisions.clear();
+      for (const double s : get_double_list(prm, "Subdivisions"))
+        box.subdivisions.push_back(static_cast<unsigned int>(s));
+      box.distortion = prm.get_double("Distortion");
+      box.rotation   = prm.get_double("Rotation");
+      require(box.lower.size() == box.upper.size() &&
+                box.lower.size() == box.subdivisions.size(),
+              "Mesh/Box",
+              "Lower corner, Upper corner and Subdivisions need the same number "
+              "of entries");
+      for (unsigned int d = 0; d < box.lower.size(); ++d)
+        require(box.upper[d] > box.lower[d],
+                "Mesh/Box/Upper corner",
+                "must exceed Lower corner in every coordinate");
+    }
+    prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+
+
+  namespace
+  {
+    /// A block of nx x ny cells filling the quadrilateral p00-p10-p01-p11
+    /// (bilinear map of the unit square).
+    void
+    make_block(const Point<2> &     p00,
+               const Point<2> &     p10,
+               const Point<2> &     p01,
+               const Point<2> &     p11,
+               const unsigned int   nx,
+               const unsigned int   ny,
+               Triangulation<2> &   block)
+    {
+      dealii::GridGenerator::subdivided_hyper_rectangle(
+        block, {nx, ny}, Point<2>(0, 0), Point<2>(1, 1));
+      dealii::GridTools::transform(
+        [&](const Point<2> &p) {
+          const double s = p[0], t = p[1];
+          return Point<2>((1 - s) * (1 - t) * p00 + s * (1 - t) * p10 +
+                          (1 - s) * t * p01 + s * t * p11);
+        },
+        block);
+    }
+
+    unsigned int
+    cells_along(const double length, const double cell_size)
+    {
+      return std::max(1u, static_cast<unsigned int>(std::lround(length / cell_size)));
+    }
+
+    void
+    make_die2d(const Die2dGeometry &g, Triangulation<2> &triangulation)
+    {
+      const unsigned int ny  = g.cells_across;
+      const double       h_i = g.inlet_half_height, h_o = g.outlet_half_height;
+      const double       x_d = g.die_exit_x();
+      const Point<2>     A = g.corner('A'), B = g.corner('B'), C = g.corner('C'),
+                     D = g.corner('D'), E = g.corner('E'), F = g.corner('F');
+
+      Triangulation<2> land;
+      make_block(Point<2>(x_d, 0), F, D, E, cells_along(g.land_length, h_o / ny), ny, land);
+
+      std::vector<Triangulation<2>> blocks(2);
+      if (x_d > 1e-9 * h_i)
+        {
+          make_block(A, Point<2>(0, 0), B, C, cells_along(g.container_length, h_i / ny), ny, blocks[0]);
+          make_block(Point<2>(0, 0), Point<2>(x_d, 0), C, D,
+                     cells_along(x_d, 0.5 * (h_i + h_o) / ny), ny, blocks[1]);
+        }
+      else
+        {
+          // Flat die: the container's right side is the land's inlet below
+          // h_o and the die face above it.
+          const unsigned int nx    = cells_along(g.container_length, h_i / ny);
+          const unsigned int upper = cells_along(h_i - h_o, h_i / ny);
+          make_block(A, Point<2>(0, 0), Point<2>(A[0], h_o), D, nx, ny, blocks[0]);
+          make_block(Point<2>(A[0], h_o), D, B, C, nx, upper, blocks[1]);
+        }
+      dealii::GridGenerator::merge_triangulations({&blocks[0], &blocks[1], &land},
+                                                  triangulation,
+                                                  1e-10 * h_i);
+
+      const double tol = 1e-8 * h_i;
+      for (const auto &face : triangulation.active_face_iterators())
+        if (face->at_boundary())
+          {
+            const Point<2> c = face->center();
+            BoundaryId     id;
+            if (std::abs(c[0] - A[0]) < tol)
+              id = Die2dGeometry::inlet_id;
+            else if (std::abs(c[0] - F[0]) < tol)
+              id = Die2dGeometry::outlet_id;
+            else if (std::abs(c[1]) < tol)
+              id = Die2dGeometry::symmetry_id;
+            else if (std::abs(c[1] - h_i) < tol && c[0] < 0)
+              id = Die2dGeometry::container_id;
+            else
+              id = Die2dGeometry::die_id;
+            face->set_boundary_id(id);
+          }
+    }
+
+    /// Deterministic offsets in [-1, 1] from a vertex index.
+    double
+    hashed_unit(const unsigned int index, const unsigned int component)
+    {
+      std::uint64_t h = 0x9E3779B97F4A7C15ull * (index + 1) + 0xBF58476D1CE4E5B9ull * (component + 7);
+      h ^= h >> 31;
+      h *= 0x94D049BB133111EBull;
+      h ^= h >> 29;
+      return 2. * static_cast<double>(h % 1000003) / 1000002. - 1.;
+    }
+
+    template <int dim>
+    void
+    make_box(const BoxGeometry &box, Triangulation<dim> &triangulation)
+    {
+      require(box.lower.size() == dim,
+              "Mesh/Box/Lower corner",
+              "needs " + std::to_string(dim) + " coordinates for Dimension = " +
+                std::to_string(dim));
+      Point<dim>                lower, upper;
+      std::vector<unsigned int> repetitions(dim);
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          lower[d]       = box.lower[d];
+          upper[d]       = box.upper[d];
+          repetitions[d] = box.subdivisions[d];
+        }
+      dealii::GridGenerator::subdivided_hyper_rectangle(
+        triangulation, repetitions, lower, upper, /*colorize=*/true);
+      // colorize numbers the faces 0..2dim-1; the deck's ids start at 1.
+      for (const auto &face : triangulation.active_face_iterators())
+        if (face->at_boundary())
+          face->set_boundary_id(face->boundary_id() + 1);
+
+      if (box.distortion > 0)
+        {
+          std::vector<bool> at_boundary(triangulation.n_vertices(), false);
+          for (const auto &face : triangulation.active_face_iterators())
+            if (face->at_boundary())
+              for (const unsigned int v : face->vertex_indices())
+                at_boundary[face->vertex_index(v)] = true;
+          auto &vertices = const_cast<std::vector<Point<dim>> &>(triangulation.get_vertices());
+          for (unsigned int i = 0; i < vertices.size(); ++i)
+            if (!at_boundary[i])
+              for (unsigned int d = 0; d < dim; ++d)
+                vertices[i][d] += box.distortion * (upper[d] - lower[d]) /
+                                  repetitions[d] * hashed_unit(i, d);
+        }
+      if (box.rotation != 0)
+        {
+          if constexpr (dim == 2)
+            dealii::GridTools::rotate(box.rotation * dealii::numbers::PI / 180., triangulation);
+          else
+            throw InputError("Mesh/Box/Rotation: only available in 2D");
+        }
+    }
+
+    template <int dim>
+    void
+    read_gmsh(const std::string &file_name, Triangulation<dim> &triangulation)
+    {
+      std::ifstream in(file_name);
+      require(static_cast<bool>(in),
+              "Mesh/Gmsh file",
+              "cannot open '" + file_name + "' (missing or unreadable)");
+      in.peek();
+      require(!in.eof(), "Mesh/Gmsh file", "'" + file_name + "' is empty");
+      dealii::GridIn<dim> grid_in;
+      grid_in.attach_triangulation(triangulation);
+      try
+        {
+          grid_in.read_msh(in);
+        }
+      catch (const std::exception &exc)
+        {
+          throw InputError("Mesh/Gmsh file: cannot read '" + file_name +
+                           "' as a Gmsh mesh: " + one_line_message(exc));
+        }
+      require(triangulation.n_active_cells() > 0,
+              "Mesh/Gmsh file",
+              "'" + file_name + "' contains no cells of dimension " +
+                std::to_string(dim));
+      require(triangulation.all_reference_cells_are_hyper_cube(),
+              "Mesh/Gmsh file",
+              "'" + file_name + "' contains triangles or tetrahedra; dieflow "
+              "needs quadrilaterals/hexahedra (Gmsh: Recombine)");
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  make_mesh(const MeshParameters &parameters, Triangulation<dim> &triangulation)
+  {
+    if (parameters.source == "die2d")
+      {
+        if constexpr (dim == 2)
+          make_die2d(parameters.die2d, triangulation);
+        else
+          throw InputError("Mesh/Source: the die2d scene is two-dimensional; use "
+                           "Dimension = 2 or a Gmsh mesh");
+      }
+    else if (parameters.source == "box")
+      make_box(parameters.box, triangulation);
+    else
+      read_gmsh(parameters.gmsh_file, triangulation);
+
+    triangulation.refine_global(parameters.global_refinements);
+  }
+
+
+
+  template <int dim>
+  void
+  check_boundary_ids(const Triangulation<dim> &               triangulation,
+                     const std::map<BoundaryId, std::string> &assigned)
+  {
+    std::set<BoundaryId> mesh_ids;
+    for (const auto id : triangulation.get_boundary_ids())
+      mesh_ids.insert(id);
+
+    for (const auto &[id, entry] : assigned)
+      if (mesh_ids.count(id) == 0)
+        {
+          std::string present;
+          for (const auto m : mesh_ids)
+            present += (present.empty() ? "" : ", ") + std::to_string(m);
+          throw InputError(entry + ": boundary id " + std::to_string(id) +
+                           " is not in the mesh (its ids are " + present + ")");
+        }
+    for (const auto id : mesh_ids)
+      require(assigned.count(id) == 1,
+              "Boundary conditions",
+              "boundary id " + std::to_string(id) +
+                " of the mesh has no condition; list it under Prescribed "
+                "velocity ids, Symmetry ids, Slip wall ids, Traction free ids "
+                "or Contact/Die ids");
+  }
+
+  template void
+  make_mesh<2>(const MeshParameters &, Triangulation<2> &);
+  template void
+  make_mesh<3>(const MeshParameters &, Triangulation<3> &);
+  template void
+  check_boundary_ids<2>(const Triangulation<2> &, const std::map<BoundaryId, std::string> &);
+  template void
+  check_boundary_ids<3>(const Triangulation<3> &, const std::map<BoundaryId, std::string> &);
+} // namespace dieflow

@@ -1,0 +1,257 @@
+#include <dieflow/material.h>
+
+#include <cmath>
+#include <limits>
+
+namespace dieflow
+{
+  namespace
+  {
+    // Universal gas constant, J/(mol K).
+    constexpr double gas_constant = 8.314462618;
+  } // namespace
+
+  NewtonianLaw::NewtonianLaw(const double eta)
+    : eta(eta)
+  {}
+
+  double
+  NewtonianLaw::viscosity(const double) const
+  {
+    return eta;
+  }
+
+  double
+  NewtonianLaw::derivative(const double) const
+  {
+    return 0;
+  }
+
+
+
+  NortonHoffLaw::NortonHoffLaw(const double K, const double m)
+    : K(K)
+    , m(m)
+  {}
+
+  double
+  NortonHoffLaw::viscosity(const double rate) const
+  {
+    return K / 3. * std::pow(rate, m - 1.);
+  }
+
+  double
+  NortonHoffLaw::derivative(const double rate) const
+  {
+    return (m - 1.) * viscosity(rate) / rate;
+  }
+
+
+
+  SellarsTegartLaw::SellarsTegartLaw(const double alpha,
+                                     const double n,
+                                     const double Q,
+                                     const double ln_A,
+                                     const double temperature)
+    : alpha(alpha)
+    , n(n)
+    , ln_Z_over_A_shift(Q / (gas_constant * temperature) - ln_A)
+  {}
+
+  double
+  SellarsTegartLaw::zener_ratio_root(const double rate) const
+  {
+    return std::exp((std::log(rate) + ln_Z_over_A_shift) / n);
+  }
+
+  double
+  SellarsTegartLaw::flow_stress(const double rate) const
+  {
+    return std::asinh(zener_ratio_root(rate)) / alpha;
+  }
+
+  double
+  SellarsTegartLaw::viscosity(const double rate) const
+  {
+    return flow_stress(rate) / (3. * rate);
+  }
+
+  double
+  SellarsTegartLaw::derivative(const double rate) const
+  {
+    const double s              = zener_ratio_root(rate);
+    const double d_stress_d_rate = s / (n * alpha * rate * std::sqrt(1. + s * s));
+    return (d_stress_d_rate - 3. * viscosity(rate)) / (3. * rate);
+  }
+
+
+
+  void
+  Material::declare_parameters(ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Material");
+    {
+      prm.declare_entry("Law",
+                        "Newtonian",
+                        Selection("Newtonian|Norton-Hoff|Sellars-Tegart"),
+                        "Viscosity law eta(epsdot_eq) with epsdot_eq = sqrt(2/3 D:D) "
+                        "and sigma_eq = 3 eta epsdot_eq. Newtonian: eta = Viscosity. "
+                        "Norton-Hoff: sigma_eq = K epsdot_eq^m. Sellars-Tegart: "
+                        "sigma_eq = asinh((Z/A)^(1/n))/alpha with Z = epsdot_eq "
+                        "exp(Q/(R T)).");
+      prm.declare_entry("Viscosity",
+                        "0.278",
+                        Double(),
+                        "Newtonian viscosity eta (MPa s).");
+      prm.declare_entry("Consistency K",
+                        "0.834",
+                        Double(),
+                        "Norton-Hoff consistency K (MPa s^m).");
+      prm.declare_entry("Rate sensitivity m",
+                        "0.2",
+                        Double(),
+                        "Norton-Hoff rate sensitivity m, in (0, 1]; m = 1 is "
+                        "Newtonian with eta = K/3, m -> 0 is rigid-plastic.");
+      prm.declare_entry("Sellars-Tegart alpha",
+                        "0.040",
+                        Double(),
+                        "Sellars-Tegart stress multiplier alpha (1/MPa); AA6063: 0.040.");
+      prm.declare_entry("Sellars-Tegart n",
+                        "5.385",
+                        Double(),
+                        "Sellars-Tegart stress exponent n; AA6063: 5.385.");
+      prm.declare_entry("Activation energy Q",
+                        "141550",
+                        Double(),
+                        "Sellars-Tegart activation energy Q (J/mol); AA6063: 141550.");
+      prm.declare_entry("ln A",
+                        "22.5",
+                        Double(),
+                        "Natural logarithm of the Sellars-Tegart constant A (A in "
+                        "1/s); AA6063: A = exp(22.5).");
+      prm.declare_entry("Temperature",
+                        "723.15",
+                        Double(),
+                        "Uniform temperature T (K) for Sellars-Tegart "
+                        "(723.15 K = 450 C, a usual billet temperature).");
+      prm.declare_entry("Minimum strain rate",
+                        "1e-4",
+                        Double(),
+                        "Regularisation epsdot_min (1/s): laws are evaluated at "
+                        "sqrt(epsdot_eq^2 + epsdot_min^2), so rigid zones keep a "
+                        "finite viscosity. Keep it well below the process strain "
+                        "rates.");
+      prm.declare_entry("Minimum viscosity",
+                        "0",
+                        Double(),
+                        "Lower bound of eta (MPa s); 0 for none.");
+      prm.declare_entry("Maximum viscosity",
+                        "1e300",
+                        Double(),
+                        "Upper bound of eta (MPa s); 1e300 for none.");
+      prm.declare_entry("Penalty factor",
+                        "1e7",
+                        Double(),
+                        "Incompressibility penalty lambda = factor x eta_m, eta_m "
+                        "the mean viscosity of the first iterate (the paper's "
+                        "eps = 1e-7 eta_m). The pressure is p = -lambda div v; "
+                        "div v is of the order of 1/factor.");
+      prm.declare_entry("Reference strain rate",
+                        "0",
+                        Double(),
+                        "Strain rate (1/s) at which the law gives the viscosity of "
+                        "the Newtonian start of nonlinear laws. 0: the largest "
+                        "prescribed speed over the domain diameter.");
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Material::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Material");
+    law_name = prm.get("Law");
+    const auto positive = [&](const std::string &entry) {
+      const double value = prm.get_double(entry);
+      require(std::isfinite(value) && value > 0,
+              "Material/" + entry,
+              "must be positive, got " + prm.get(entry));
+      return value;
+    };
+
+    if (law_name == "Newtonian")
+      law = std::make_shared<NewtonianLaw>(positive("Viscosity"));
+    else if (law_name == "Norton-Hoff")
+      {
+        const double m = prm.get_double("Rate sensitivity m");
+        require(std::isfinite(m) && m > 0 && m <= 1,
+                "Material/Rate sensitivity m",
+                "must lie in (0, 1], got " + prm.get("Rate sensitivity m"));
+        law = std::make_shared<NortonHoffLaw>(positive("Consistency K"), m);
+      }
+    else
+      {
+        const double ln_A = prm.get_double("ln A");
+        require(std::isfinite(ln_A), "Material/ln A", "must be a finite number");
+        law = std::make_shared<SellarsTegartLaw>(positive("Sellars-Tegart alpha"),
+                                                 positive("Sellars-Tegart n"),
+                                                 positive("Activation energy Q"),
+                                                 ln_A,
+                                                 positive("Temperature"));
+      }
+
+    minimum_strain_rate = prm.get_double("Minimum strain rate");
+    require(std::isfinite(minimum_strain_rate) && minimum_strain_rate > 0,
+            "Material/Minimum strain rate",
+            "must be positive, got " + prm.get("Minimum strain rate"));
+    minimum_viscosity = prm.get_double("Minimum viscosity");
+    maximum_viscosity = prm.get_double("Maximum viscosity");
+    require(std::isfinite(minimum_viscosity) && minimum_viscosity >= 0,
+            "Material/Minimum viscosity",
+            "must be zero or positive, got " + prm.get("Minimum viscosity"));
+    require(maximum_viscosity > minimum_viscosity,
+            "Material/Maximum viscosity",
+            "must exceed Minimum viscosity");
+    penalty_factor = positive("Penalty factor");
+    reference_strain_rate = prm.get_double("Reference strain rate");
+    require(std::isfinite(reference_strain_rate) && reference_strain_rate >= 0,
+            "Material/Reference strain rate",
+            "must be zero (auto) or positive");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Material::set_newtonian(const double eta)
+  {
+    law      = std::make_shared<NewtonianLaw>(eta);
+    law_name = "Newtonian";
+  }
+
+
+
+  ViscosityValue
+  Material::evaluate(const double equivalent_rate) const
+  {
+    ViscosityValue value;
+    value.rate = std::sqrt(equivalent_rate * equivalent_rate +
+                           minimum_strain_rate * minimum_strain_rate);
+    value.eta   = law->viscosity(value.rate);
+    value.d_eta = law->derivative(value.rate);
+    if (value.eta < minimum_viscosity)
+      {
+        value.eta   = minimum_viscosity;
+        value.d_eta = 0;
+      }
+    else if (value.eta > maximum_viscosity)
+      {
+        value.eta   = maximum_viscosity;
+        value.d_eta = 0;
+      }
+    return value;
+  }
+} // namespace dieflow

@@ -1,0 +1,209 @@
+#include <dieflow/nonlinear_solver.h>
+
+#include <cmath>
+#include <iomanip>
+
+namespace dieflow
+{
+  void
+  NonlinearSolver::declare_parameters(ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Nonlinear solver");
+    prm.declare_entry("Method",
+                      "Newton",
+                      Selection("Newton|Picard|Picard then Newton"),
+                      "Newton: consistent tangent with a line search. Picard: "
+                      "successive substitution, eta frozen at the last iterate "
+                      "(the paper's scheme). Picard then Newton: the first "
+                      "'Picard iterations' steps are Picard.");
+    prm.declare_entry("Maximum iterations",
+                      "50",
+                      Integer(1),
+                      "Iterations per cycle before the run stops with exit status 2.");
+    prm.declare_entry("Residual tolerance",
+                      "1e-8",
+                      Double(0),
+                      "Converged when ||R|| / ||reactions|| falls below this: the "
+                      "out-of-balance force of the free dofs relative to the "
+                      "forces the boundaries exert.");
+    prm.declare_entry("Update tolerance",
+                      "1e-8",
+                      Double(0),
+                      "Converged also when the relative update ||dv|| / ||v|| "
+                      "falls below this (the paper's test uses 0.01 = 1%). The "
+                      "penalty's cancellation (lambda div v, lambda ~ 1e7 eta) "
+                      "puts a round-off floor of about 1e-16 x penalty factor x "
+                      "sqrt(dofs) under the residual; the update test ends the "
+                      "iteration when the residual cannot fall further. 0: off.");
+    prm.declare_entry("Picard iterations",
+                      "2",
+                      Integer(0),
+                      "Picard steps before Newton for Method = Picard then Newton.");
+    prm.declare_entry("Line search",
+                      "true",
+                      Bool(),
+                      "Backtracking line search on ||R|| for Newton steps (Armijo).");
+    prm.declare_entry("Maximum line search steps",
+                      "8",
+                      Integer(1, 50),
+                      "Halvings of the Newton step before a Picard step is taken "
+                      "instead.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  NonlinearSolver::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Nonlinear solver");
+    method                    = prm.get("Method");
+    maximum_iterations        = prm.get_integer("Maximum iterations");
+    residual_tolerance        = prm.get_double("Residual tolerance");
+    update_tolerance          = prm.get_double("Update tolerance");
+    picard_iterations         = prm.get_integer("Picard iterations");
+    line_search               = prm.get_bool("Line search");
+    maximum_line_search_steps = prm.get_integer("Maximum line search steps");
+    require(residual_tolerance > 0 || update_tolerance > 0,
+            "Nonlinear solver/Residual tolerance",
+            "and Update tolerance are both zero: nothing could ever converge");
+    prm.leave_subsection();
+  }
+
+
+
+  namespace
+  {
+    const char *
+    name(const Linearization l)
+    {
+      return l == Linearization::newton ? "Newton" : "Picard";
+    }
+
+    void
+    log_iteration(std::ostream &log, const IterationRecord &r, const bool first)
+    {
+      std::ostringstream line;
+      line << "    it " << std::setw(2) << r.iteration << "  " << std::setw(6) << name(r.linearization)
+           << "  |R|/|F| " << std::scientific << std::setprecision(3) << r.residual;
+      if (!first)
+        line << "  |dv|/|v| " << r.update << "  step " << std::fixed << std::setprecision(3) << r.step;
+      if (r.state_changes > 0)
+        line << "  contact changes " << r.state_changes;
+      log << line.str() << std::endl;
+    }
+  } // namespace
+
+
+
+  double
+  NonlinearSolver::line_search_step(NonlinearSystem &             system,
+                                    const dealii::Vector<double> &v,
+                                    const dealii::Vector<double> &update,
+                                    dealii::Vector<double> &      trial,
+                                    const double                  residual) const
+  {
+    // g(a) = du . R(v + a du) is the slope of the dissipation potential along
+    // du (for frictionless problems, which minimise it); g(0) < 0 for a
+    // descent direction. A step is accepted when the potential has surely
+    // decreased (g(a) <= |g(0)|/2, its linear model), or when the residual
+    // norm has (Armijo), which covers the non-variational friction terms.
+    // Otherwise the step shrinks to the secant root of g, within [a/10, a/2].
+    const double           g0 = -(update * system.minus_residual());
+    dealii::Vector<double> minus_residual(v.size());
+    double                 step = 1;
+    for (unsigned int i = 0; i < maximum_line_search_steps; ++i)
+      {
+        trial = v;
+        trial.add(step, update);
+        const double r = system.residual(trial, minus_residual);
+        const double g = -(update * minus_residual);
+        if (std::isfinite(r) && std::isfinite(g) &&
+            ((g0 < 0 && g <= 0.5 * std::abs(g0)) || r <= (1. - 1e-4 * step) * residual))
+          return step;
+        const double secant = (g0 < 0 && g > g0) ? step * g0 / (g0 - g) : 0.5 * step;
+        step                = std::min(0.5 * step, std::max(0.1 * step, secant));
+      }
+    return 0;
+  }
+
+
+
+  NonlinearResult
+  NonlinearSolver::solve(NonlinearSystem &system, dealii::Vector<double> &v, std::ostream &log) const
+  {
+    NonlinearResult result;
+    double          last_update = std::numeric_limits<double>::infinity();
+    double          last_step   = 1;
+    dealii::Vector<double> update(v.size()), trial(v.size());
+
+    for (unsigned int k = 0;; ++k)
+      {
+        const unsigned int changes = system.update_state(v);
+        const bool         newton_now =
+          (method == "Newton") || (method == "Picard then Newton" && k >= picard_iterations);
+        Linearization linearization = newton_now ? Linearization::newton : Linearization::picard;
+
+        const double residual = system.assemble_system(v, linearization);
+        result.history.push_back({k, linearization, residual, last_update, last_step, changes});
+        log_iteration(log, result.history.back(), k == 0);
+        result.iterations = k;
+
+        if (!std::isfinite(residual))
+          {
+            result.failure = "the residual is not a number at iteration " + std::to_string(k) +
+                             ": the iterate left the range of the viscosity law; raise "
+                             "Material/Minimum strain rate or use Method = Picard then Newton";
+            return result;
+          }
+        // A linear problem (Newtonian, no contact) is solved by its first
+        // Newton step up to round-off.
+        const bool linear_done = (k > 0 && system.is_linear());
+        if (changes == 0 &&
+            (residual <= residual_tolerance || (k > 0 && last_update <= update_tolerance) || linear_done))
+          {
+            result.converged = true;
+            return result;
+          }
+        if (k == maximum_iterations)
+          {
+            std::ostringstream why;
+            why << "no convergence in " << maximum_iterations << " iterations (relative residual "
+                << std::scientific << std::setprecision(2) << residual
+                << "); raise Nonlinear solver/Maximum iterations, or try Method = Picard then Newton";
+            result.failure = why.str();
+            return result;
+          }
+
+        system.solve(update);
+        ++result.linear_solves;
+        double step = 1;
+
+        // Once the update is small, Newton is in its quadratic regime and a
+        // line search only measures round-off.
+        const bool small_update = update.l2_norm() <= 1e-6 * v.l2_norm();
+        if (linearization == Linearization::newton && line_search && !small_update)
+          {
+            step = line_search_step(system, v, update, trial, residual);
+            if (step == 0)
+              {
+                // The Newton direction does not descend from here (far from
+                // the solution, or at a kink of the contact law): take a
+                // Picard step, which the positive definite secant matrix
+                // makes safe.
+                log << "    line search found no descent: Picard step instead" << std::endl;
+                linearization = Linearization::picard;
+                system.assemble_system(v, linearization);
+                system.solve(update);
+                ++result.linear_solves;
+                step = 1;
+              }
+          }
+        system.accept_step(v, update, step, linearization);
+        v.add(step, update);
+        last_update = step * update.l2_norm() / std::max(v.l2_norm(), 1e-300);
+        last_step   = step;
+      }
+  }
+} // namespace dieflow

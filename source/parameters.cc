@@ -1,0 +1,146 @@
+#include <dieflow/parameters.h>
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <sstream>
+
+namespace dieflow
+{
+  void
+  RunParameters::declare_parameters(ParameterHandler &prm)
+  {
+    using dealii::Patterns::Bool;
+    using dealii::Patterns::Anything;
+    using dealii::Patterns::Integer;
+    prm.declare_entry("Dimension",
+                      "2",
+                      Integer(2, 3),
+                      "Space dimension of the problem: 2 (plane strain) or 3.");
+    prm.declare_entry("Output directory",
+                      "output/die2d",
+                      Anything(),
+                      "Directory for summary.json, the study table, the die-wall "
+                      "profiles and the VTU/PVD files. Created if it does not "
+                      "exist; relative paths are relative to the working "
+                      "directory.");
+    prm.declare_entry("Write VTU",
+                      "true",
+                      Bool(),
+                      "Write the solution of every cycle as VTU with a PVD index "
+                      "for ParaView (velocity, pressure, equivalent strain rate "
+                      "and stress, viscosity). summary.json is always written.");
+    prm.declare_entry("Write mesh SVG",
+                      "false",
+                      Bool(),
+                      "Write the mesh of every cycle as mesh-CYCLE.svg, to see "
+                      "the refinement without ParaView.");
+  }
+
+
+
+  void
+  RunParameters::parse_parameters(ParameterHandler &prm)
+  {
+    dimension        = prm.get_integer("Dimension");
+    output_directory = prm.get("Output directory");
+    write_vtu        = prm.get_bool("Write VTU");
+    write_mesh_svg   = prm.get_bool("Write mesh SVG");
+    require(!output_directory.empty(),
+            "Output directory",
+            "must not be empty (use . for the working directory)");
+  }
+
+
+
+  std::set<BoundaryId>
+  parse_id_list(const std::string &entry, const std::string &text)
+  {
+    std::set<BoundaryId> ids;
+    for (const std::string &item : dealii::Utilities::split_string_list(text, ','))
+      {
+        if (item.empty())
+          continue;
+        char *     end   = nullptr;
+        const long value = std::strtol(item.c_str(), &end, 10);
+        require(end != item.c_str() && *end == '\0' && value >= 0 &&
+                  value < static_cast<long>(dealii::numbers::internal_face_boundary_id),
+                entry,
+                "'" + item + "' is not a boundary id (a whole number from 0 to 254)");
+        require(ids.insert(static_cast<BoundaryId>(value)).second,
+                entry,
+                "boundary id " + item + " is listed twice");
+      }
+    return ids;
+  }
+
+
+
+  std::vector<std::pair<BoundaryId, double>>
+  parse_id_value_map(const std::string &entry, const std::string &text)
+  {
+    std::vector<std::pair<BoundaryId, double>> result;
+    for (const std::string &item : dealii::Utilities::split_string_list(text, ','))
+      {
+        if (item.empty())
+          continue;
+        const auto parts = dealii::Utilities::split_string_list(item, ':');
+        require(parts.size() == 2,
+                entry,
+                "'" + item + "' is not of the form 'id: value'");
+        const auto id = parse_id_list(entry, parts[0]);
+        require(id.size() == 1, entry, "'" + item + "' names no boundary id");
+        char *       end   = nullptr;
+        const double value = std::strtod(parts[1].c_str(), &end);
+        require(end != parts[1].c_str() && *end == '\0' && std::isfinite(value),
+                entry,
+                "'" + parts[1] + "' is not a number");
+        for (const auto &p : result)
+          require(p.first != *id.begin(),
+                  entry,
+                  "boundary id " + parts[0] + " is listed twice");
+        result.emplace_back(*id.begin(), value);
+      }
+    return result;
+  }
+
+
+
+  std::string
+  one_line_message(const std::exception &exc)
+  {
+    std::string text;
+    if (const auto *deal_exc = dynamic_cast<const dealii::ExceptionBase *>(&exc))
+      {
+        // print_info() gives the reason without deal.II's stack trace and
+        // source location, which mean nothing to a user of the program.
+        std::ostringstream reason;
+        deal_exc->print_info(reason);
+        text = reason.str();
+      }
+    else
+      text = exc.what();
+
+    // One line: fold white space, drop deal.II's decorations.
+    std::string folded;
+    bool        in_space = true;
+    for (const char c : text)
+      if (std::isspace(static_cast<unsigned char>(c)))
+        {
+          if (!in_space)
+            folded += ' ';
+          in_space = true;
+        }
+      else
+        {
+          folded += c;
+          in_space = false;
+        }
+    while (!folded.empty() && folded.back() == ' ')
+      folded.pop_back();
+    for (const std::string prefix : {"Additional information: ", "Additional information:"})
+      if (folded.rfind(prefix, 0) == 0)
+        folded.erase(0, prefix.size());
+    return folded;
+  }
+} // namespace dieflow

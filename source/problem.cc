@@ -1,0 +1,386 @@
+#include <dieflow/expressions.h>
+#include <dieflow/postprocess.h>
+#include <dieflow/problem.h>
+
+#include <deal.II/base/timer.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/numerics/solution_transfer.h>
+
+#include <filesystem>
+#include <iomanip>
+
+namespace dieflow
+{
+  void
+  RefinementParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Refinement");
+    prm.declare_entry("Cycles",
+                      "1",
+                      dealii::Patterns::Integer(1, 30),
+                      "Number of solve-refine cycles; each cycle starts from the "
+                      "previous solution transferred to the new mesh.");
+    prm.declare_entry("Strategy",
+                      "global",
+                      dealii::Patterns::Selection("global"),
+                      "global: refine every cell between cycles.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  RefinementParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Refinement");
+    cycles   = prm.get_integer("Cycles");
+    strategy = prm.get("Strategy");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::declare_parameters(ParameterHandler &prm, const DeckLayout &layout)
+  {
+    RunParameters::declare_parameters(prm);
+    MeshParameters::declare_parameters(prm);
+    Material::declare_parameters(prm);
+    BoundaryConditions<dim>::declare_parameters(prm, layout.velocity_ids);
+    NonlinearSolver::declare_parameters(prm);
+    LinearSolver::declare_parameters(prm);
+    RefinementParameters::declare_parameters(prm);
+
+    prm.enter_subsection("Verification");
+    prm.declare_entry("Exact velocity",
+                      "",
+                      dealii::Patterns::Anything(),
+                      "Exact velocity, one expression in x, y[, z] per component "
+                      "separated by ';', to report the L2 and H1 errors of every "
+                      "cycle against. Empty: no exact solution.");
+    prm.declare_entry("Constants",
+                      "",
+                      dealii::Patterns::Anything(),
+                      "Constants for the exact velocity: 'a=1, b=2'.");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  DieFlowProblem<dim>::DieFlowProblem(ParameterHandler &prm, std::ostream &log)
+    : log(log)
+    , fe(dealii::FE_Q<dim>(1), dim)
+    , dof_handler(triangulation)
+    , assembler(material, nullptr)
+  {
+    run_parameters.parse_parameters(prm);
+    mesh_parameters.parse_parameters(prm);
+    material.parse_parameters(prm);
+    boundary_conditions.parse_parameters(prm);
+    nonlinear_solver.parse_parameters(prm);
+    linear_solver.parse_parameters(prm);
+    refinement.parse_parameters(prm);
+
+    prm.enter_subsection("Verification");
+    if (!prm.get("Exact velocity").empty())
+      exact_velocity = parse_vector_expression<dim>("Verification/Exact velocity",
+                                                    prm.get("Exact velocity"),
+                                                    prm.get("Constants"));
+    prm.leave_subsection();
+
+    if (boundary_conditions.has_body_force)
+      assembler.set_body_force(boundary_conditions.body_force.get());
+
+    make_mesh(mesh_parameters, triangulation);
+    check_boundary_ids(triangulation, boundary_conditions.assigned_ids());
+    boundary_conditions.check_prescribed_fluxes(triangulation, false);
+    require(!boundary_conditions.velocity_ids.empty(),
+            "Boundary conditions/Prescribed velocity ids",
+            "is empty: without a prescribed velocity nothing drives the flow "
+            "and rigid motions are free");
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::setup_system()
+  {
+    dof_handler.distribute_dofs(fe);
+
+    hanging_node_constraints.clear();
+    dealii::DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+    hanging_node_constraints.close();
+
+    wall_nodes = collect_wall_nodes(dof_handler,
+                                    boundary_conditions.wall_ids(),
+                                    hanging_node_constraints,
+                                    boundary_conditions.corner_angle);
+    boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, false, constraints);
+    constraints.close();
+    boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, true, update_constraints);
+    update_constraints.close();
+
+    // Wall and Dirichlet constraints only couple the components of one node,
+    // which the pattern couples anyway: the hanging-node pattern serves all.
+    dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
+    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, false);
+    sparsity_pattern.copy_from(dsp);
+    system_matrix.reinit(sparsity_pattern);
+    system_rhs.reinit(dof_handler.n_dofs());
+    raw_residual.reinit(dof_handler.n_dofs());
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::relative_residual(const Vector<double> &minus_residual) const
+  {
+    // The reactions: the raw residual at dofs the constraints hold.
+    double reaction_squared = 0;
+    for (unsigned int i = 0; i < raw_residual.size(); ++i)
+      if (update_constraints.is_constrained(i))
+        reaction_squared += raw_residual[i] * raw_residual[i];
+    const double residual = minus_residual.l2_norm();
+    if (residual == 0)
+      return 0;
+    return residual / std::max(std::sqrt(reaction_squared), 1e-300);
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  DieFlowProblem<dim>::update_state(Vector<double> &v)
+  {
+    constraints.distribute(v);
+    return 0;
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::assemble_system(const Vector<double> &v, const Linearization linearization)
+  {
+    assembler.assemble_system(dof_handler, v, update_constraints, linearization, system_matrix, system_rhs, raw_residual);
+    return relative_residual(system_rhs);
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::residual(const Vector<double> &v, Vector<double> &minus_residual)
+  {
+    assembler.assemble_residual(dof_handler, v, update_constraints, minus_residual, raw_residual);
+    return relative_residual(minus_residual);
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::solve(Vector<double> &update)
+  {
+    linear_solver.factorize(system_matrix);
+    update.reinit(dof_handler.n_dofs());
+    linear_solver.solve(system_rhs, update);
+    update_constraints.distribute(update);
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::accept_step(const Vector<double> &v,
+                                   const Vector<double> &update,
+                                   const double          step,
+                                   const Linearization   linearization)
+  {
+    if (linearization == Linearization::newton)
+      assembler.update_dual(dof_handler, v, &update, step);
+    else
+      {
+        Vector<double> next = v;
+        next.add(step, update);
+        assembler.update_dual(dof_handler, next, nullptr, 0);
+      }
+  }
+
+
+
+  template <int dim>
+  bool
+  DieFlowProblem<dim>::is_linear() const
+  {
+    return material.is_newtonian();
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::newtonian_start()
+  {
+    // The velocity of a Newtonian, velocity-driven problem does not depend on
+    // the viscosity's value; the law's viscosity at a typical strain rate
+    // keeps forces and tractions (body force, Tresca) on the right scale.
+    double reference_rate = material.reference_strain_rate;
+    if (reference_rate == 0)
+      {
+        const double diameter = dealii::GridTools::diameter(triangulation);
+        reference_rate        = boundary_conditions.largest_prescribed_speed(dof_handler) / diameter;
+        if (reference_rate == 0)
+          reference_rate = 1;
+      }
+    const double start_viscosity = material.evaluate(reference_rate).eta;
+    velocity.reinit(dof_handler.n_dofs());
+    constraints.distribute(velocity);
+    if (material.is_newtonian())
+      {
+        // The law is the Newtonian problem: the nonlinear solver's first
+        // step solves it.
+        mean_viscosity = start_viscosity;
+        assembler.set_penalty(material.penalty_factor * mean_viscosity);
+        log << "  penalty lambda = " << material.penalty_factor << " x viscosity " << mean_viscosity << " = "
+            << assembler.get_penalty() << " MPa s" << std::endl;
+        return;
+      }
+
+    Material newtonian = material;
+    newtonian.set_newtonian(start_viscosity);
+    FlowAssembler<dim> start(newtonian, assembler.body_force_function());
+    start.set_penalty(material.penalty_factor * start_viscosity);
+    start.assemble_system(dof_handler, velocity, update_constraints, Linearization::picard, system_matrix, system_rhs, raw_residual);
+    Vector<double> update;
+    solve(update);
+    velocity += update;
+    ++start_solves;
+
+    mean_viscosity = assembler.mean_viscosity(dof_handler, velocity);
+    assembler.set_penalty(material.penalty_factor * mean_viscosity);
+    log << "  Newtonian start: eta = " << std::setprecision(4) << start_viscosity
+        << " MPa s; penalty lambda = " << material.penalty_factor << " x mean viscosity "
+        << mean_viscosity << " = " << assembler.get_penalty() << " MPa s" << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::postprocess(CycleSummary &summary)
+  {
+    summary.cells = triangulation.n_active_cells();
+    summary.dofs  = dof_handler.n_dofs();
+    summary.flux  = boundary_fluxes(dof_handler, velocity);
+
+    // Reactions of the converged state, with hanging nodes' shares moved to
+    // the vertices they hang from.
+    Vector<double> unused;
+    assembler.assemble_residual(dof_handler, velocity, update_constraints, unused, raw_residual);
+    Vector<double> reactions = raw_residual;
+    hanging_node_constraints.condense(reactions);
+    summary.boundary_force   = boundary_forces(dof_handler, reactions, boundary_conditions, wall_nodes);
+    summary.divergence_ratio = divergence_ratio(dof_handler, velocity);
+    summary.penalty          = assembler.get_penalty();
+    summary.mean_viscosity   = mean_viscosity;
+    if (exact_velocity)
+      {
+        const auto errors         = velocity_errors(dof_handler, velocity, *exact_velocity);
+        summary.velocity_l2_error = errors.first;
+        summary.velocity_h1_error = errors.second;
+      }
+
+    if (run_parameters.write_vtu)
+      write_vtu(dof_handler,
+                velocity,
+                material,
+                assembler.get_penalty(),
+                {},
+                run_parameters.output_directory,
+                summary.cycle,
+                pvd_records);
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::refine_mesh()
+  {
+    dealii::SolutionTransfer<dim, Vector<double>> transfer(dof_handler);
+    triangulation.set_all_refine_flags();
+    triangulation.prepare_coarsening_and_refinement();
+    transfer.prepare_for_coarsening_and_refinement(velocity);
+    triangulation.execute_coarsening_and_refinement();
+    dof_handler.distribute_dofs(fe);
+    Vector<double> transferred(dof_handler.n_dofs());
+    transfer.interpolate(velocity, transferred);
+    velocity = transferred;
+  }
+
+
+
+  template <int dim>
+  RunSummary
+  DieFlowProblem<dim>::run()
+  {
+    dealii::Timer run_timer;
+    RunSummary    summary;
+    std::filesystem::create_directories(run_parameters.output_directory);
+    const std::string summary_file = run_parameters.output_directory + "/summary.json";
+
+    for (unsigned int cycle = 0; cycle < refinement.cycles; ++cycle)
+      {
+        dealii::Timer cycle_timer;
+        if (cycle > 0)
+          refine_mesh();
+        setup_system();
+        log << "cycle " << cycle << ": " << triangulation.n_active_cells() << " cells, "
+            << dof_handler.n_dofs() << " dofs" << std::endl;
+
+        CycleSummary cycle_summary;
+        cycle_summary.cycle = cycle;
+        start_solves = 0;
+        if (cycle == 0)
+          newtonian_start();
+
+        assembler.update_dual(dof_handler, velocity, nullptr, 0);
+        const NonlinearResult result = nonlinear_solver.solve(*this, velocity, log);
+        cycle_summary.converged            = result.converged;
+        cycle_summary.nonlinear_iterations = result.iterations;
+        cycle_summary.linear_solves        = result.linear_solves + start_solves;
+        cycle_summary.history              = result.history;
+
+        postprocess(cycle_summary);
+        cycle_summary.wall_time = cycle_timer.wall_time();
+        summary.cycles.push_back(cycle_summary);
+
+        if (!result.converged)
+          {
+            summary.failure = "cycle " + std::to_string(cycle) + ": " + result.failure;
+            log << "  NOT CONVERGED: " << result.failure << std::endl;
+            break;
+          }
+        log << "  converged: " << result.iterations << " iterations, " << cycle_summary.linear_solves
+            << " linear solves, divergence ratio " << std::scientific << std::setprecision(2)
+            << cycle_summary.divergence_ratio << std::defaultfloat << std::endl;
+        summary.wall_time = run_timer.wall_time();
+        write_summary_json(summary, summary_file);
+      }
+
+    summary.converged = summary.failure.empty();
+    summary.wall_time = run_timer.wall_time();
+    write_summary_json(summary, summary_file);
+    return summary;
+  }
+
+  template class DieFlowProblem<2>;
+} // namespace dieflow

@@ -1,0 +1,179 @@
+#include <dieflow/wall_nodes.h>
+
+#include <deal.II/fe/fe.h>
+
+#include <cmath>
+#include <map>
+
+namespace dieflow
+{
+  namespace
+  {
+    /// Outward unit normal of a straight (planar) boundary face.
+    template <int dim, typename CellIterator>
+    Tensor<1, dim>
+    outward_normal(const CellIterator &cell, const unsigned int face_no)
+    {
+      const auto     face = cell->face(face_no);
+      Tensor<1, dim> n;
+      if constexpr (dim == 2)
+        {
+          const Tensor<1, dim> t = face->vertex(1) - face->vertex(0);
+          n[0]                   = t[1];
+          n[1]                   = -t[0];
+        }
+      else
+        n = dealii::cross_product_3d(face->vertex(3) - face->vertex(0),
+                                     face->vertex(2) - face->vertex(1));
+      if (n * (face->center() - cell->center()) < 0)
+        n *= -1;
+      return n / n.norm();
+    }
+
+    template <int dim>
+    void
+    add_to_directions(std::vector<WallDirection<dim>> &directions,
+                      const Tensor<1, dim> &            normal,
+                      const BoundaryId                  id,
+                      const double                      weight,
+                      const double                      cos_corner)
+    {
+      for (auto &direction : directions)
+        if (direction.normal * normal >= cos_corner)
+          {
+            // Weighted mean: a gently curved wall has one direction.
+            Tensor<1, dim> sum = direction.normal * direction.weight + normal * weight;
+            direction.normal   = sum / sum.norm();
+            direction.weight += weight;
+            return;
+          }
+      directions.push_back({normal, id, weight});
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  std::vector<WallNode<dim>>
+  collect_wall_nodes(const DoFHandler<dim> &           dof_handler,
+                     const std::set<BoundaryId> &      ids,
+                     const AffineConstraints<double> & hanging_node_constraints,
+                     const double                      corner_angle_degrees)
+  {
+    const double cos_corner = std::cos(corner_angle_degrees * dealii::numbers::PI / 180.);
+    std::map<GlobalDof, WallNode<dim>> nodes; // keyed by the x-velocity dof
+    std::vector<std::tuple<GlobalDof, Tensor<1, dim>, BoundaryId, double>> hanging;
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() && ids.count(cell->face(f)->boundary_id()))
+          {
+            const auto           face   = cell->face(f);
+            const Tensor<1, dim> normal = outward_normal<dim>(cell, f);
+            // Exact for affine faces: each vertex's basis function integrates
+            // to measure / (number of vertices).
+            const double weight = face->measure() / face->n_vertices();
+            for (const unsigned int v : face->vertex_indices())
+              {
+                const GlobalDof first = face->vertex_dof_index(v, 0);
+                if (hanging_node_constraints.is_constrained(first))
+                  {
+                    hanging.emplace_back(first, normal, face->boundary_id(), weight);
+                    continue;
+                  }
+                auto &node = nodes[first];
+                if (node.directions.empty())
+                  {
+                    for (unsigned int d = 0; d < dim; ++d)
+                      node.dofs[d] = face->vertex_dof_index(v, d);
+                    node.position = face->vertex(v);
+                  }
+                add_to_directions(node.directions, normal, face->boundary_id(), weight, cos_corner);
+              }
+          }
+
+    // A hanging vertex's share of the boundary integral belongs to the
+    // vertices it hangs from (same coefficients as its constraint).
+    for (const auto &[dof, normal, id, weight] : hanging)
+      for (const auto &[parent, coefficient] : *hanging_node_constraints.get_constraint_entries(dof))
+        {
+          const auto it = nodes.find(parent);
+          if (it != nodes.end())
+            add_to_directions(it->second.directions, normal, id, coefficient * weight, cos_corner);
+        }
+
+    std::vector<WallNode<dim>> result;
+    result.reserve(nodes.size());
+    for (auto &entry : nodes)
+      result.push_back(std::move(entry.second));
+    return result;
+  }
+
+
+
+  template <int dim>
+  void
+  constrain_normal_components(const std::array<GlobalDof, dim> &  dofs,
+                              const std::vector<Tensor<1, dim>> & normals,
+                              const std::vector<double> &         values,
+                              AffineConstraints<double> &         constraints)
+  {
+    AssertDimension(normals.size(), values.size());
+    // Rows [n_k | g_k]; columns of components that are free to be solved for.
+    std::vector<std::array<double, dim + 1>> rows;
+    for (unsigned int k = 0; k < normals.size(); ++k)
+      {
+        std::array<double, dim + 1> row;
+        for (unsigned int d = 0; d < dim; ++d)
+          row[d] = normals[k][d];
+        row[dim] = values[k];
+        rows.push_back(row);
+      }
+    std::array<bool, dim> free;
+    for (unsigned int d = 0; d < dim; ++d)
+      free[d] = !constraints.is_constrained(dofs[d]);
+
+    // Gauss-Jordan elimination with partial pivoting over the free columns.
+    std::vector<std::pair<unsigned int, unsigned int>> pivots; // (row, column)
+    for (unsigned int r = 0; r < rows.size(); ++r)
+      {
+        unsigned int column = dim;
+        double       best   = 1e-8;
+        for (unsigned int d = 0; d < dim; ++d)
+          if (free[d] && std::abs(rows[r][d]) > best)
+            {
+              best   = std::abs(rows[r][d]);
+              column = d;
+            }
+        if (column == dim)
+          continue; // dependent on the others, or on constrained components only
+        const double pivot = rows[r][column];
+        for (auto &x : rows[r])
+          x /= pivot;
+        for (unsigned int s = 0; s < rows.size(); ++s)
+          if (s != r)
+            {
+              const double factor = rows[s][column];
+              for (unsigned int d = 0; d <= dim; ++d)
+                rows[s][d] -= factor * rows[r][d];
+            }
+        free[column] = false;
+        pivots.emplace_back(r, column);
+      }
+
+    // Each pivot row reads v_p + sum_d a_d v_d = g, so v_p = g - sum_d a_d v_d.
+    for (const auto &[r, p] : pivots)
+      {
+        constraints.add_line(dofs[p]);
+        for (unsigned int d = 0; d < dim; ++d)
+          if (d != p && std::abs(rows[r][d]) > 1e-14)
+            constraints.add_entry(dofs[p], dofs[d], -rows[r][d]);
+        constraints.set_inhomogeneity(dofs[p], rows[r][dim]);
+      }
+  }
+
+  template std::vector<WallNode<2>>
+  collect_wall_nodes<2>(const DoFHandler<2> &, const std::set<BoundaryId> &, const AffineConstraints<double> &, const double);
+  template void
+  constrain_normal_components<2>(const std::array<GlobalDof, 2> &, const std::vector<Tensor<1, 2>> &, const std::vector<double> &, AffineConstraints<double> &);
+} // namespace dieflow

@@ -1,0 +1,206 @@
+// The test driver of the .prm tests: runs the deck with the program's own
+// code, sends the iteration log to log.txt, and prints a deterministic
+// report: the exit status (and the error message of bad input), a table of
+// the quantities the deck's "subsection Test" asks for, and the verdict of
+// each of its checks. The checks are the proof; the table guards against
+// regressions.
+#include <dieflow/parameters.h>
+#include <dieflow/run.h>
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+
+using namespace dieflow;
+
+namespace
+{
+  void
+  declare_test_section(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Test");
+    prm.declare_entry("Columns", "", dealii::Patterns::Anything(), "Quantities printed per cycle.");
+    prm.declare_entry("Precision", "3", dealii::Patterns::Integer(1, 8), "Significant digits printed.");
+    prm.declare_entry("Checks", "", dealii::Patterns::Anything(), "label: expression; ... (true = pass)");
+    prm.leave_subsection();
+  }
+
+  /// Observed convergence order of the error e against the mesh size h ~ dofs^(-1/dim).
+  double
+  rate(const double e_coarse, const double e_fine, const double dofs_coarse, const double dofs_fine)
+  {
+    return std::log(e_coarse / e_fine) / std::log(std::sqrt(dofs_fine / dofs_coarse));
+  }
+
+  /// Order p of r_{k+1} ~ r_k^p from the last three Newton residuals above 1e-12.
+  double
+  newton_order(const CycleSummary &cycle)
+  {
+    std::vector<double> r;
+    for (const auto &record : cycle.history)
+      if (record.linearization == Linearization::newton && record.residual > 1e-12)
+        r.push_back(record.residual);
+    if (r.size() < 3)
+      return std::nan("");
+    const unsigned int n = r.size();
+    return std::log(r[n - 1] / r[n - 2]) / std::log(r[n - 2] / r[n - 3]);
+  }
+
+  std::map<std::string, double>
+  quantities(const RunSummary &summary, const int exit_status)
+  {
+    std::map<std::string, double> q;
+    q["exit_status"] = exit_status;
+    q["n_cycles"]    = summary.cycles.size();
+    const double nan = std::nan("");
+    for (unsigned int c = 0; c < summary.cycles.size(); ++c)
+      {
+        const CycleSummary &s = summary.cycles[c];
+        std::map<std::string, double> cycle;
+        cycle["cells"]              = s.cells;
+        cycle["dofs"]               = s.dofs;
+        cycle["converged"]          = s.converged;
+        cycle["iterations"]         = s.nonlinear_iterations;
+        cycle["linear_solves"]      = s.linear_solves;
+        cycle["contact_assemblies"] = s.contact_assemblies;
+        cycle["divergence_ratio"]   = s.divergence_ratio;
+        cycle["penalty"]            = s.penalty;
+        cycle["separated"]          = s.contact_nodes.separated;
+        cycle["stick"]              = s.contact_nodes.stick;
+        cycle["slip"]               = s.contact_nodes.slip;
+        cycle["l2_error"]           = s.velocity_l2_error.value_or(nan);
+        cycle["h1_error"]           = s.velocity_h1_error.value_or(nan);
+        cycle["newton_order"]       = newton_order(s);
+        cycle["l2_rate"] = cycle["h1_rate"] = nan;
+        if (c > 0 && s.velocity_l2_error)
+          {
+            const CycleSummary &p = summary.cycles[c - 1];
+            cycle["l2_rate"] = rate(*p.velocity_l2_error, *s.velocity_l2_error, p.dofs, s.dofs);
+            cycle["h1_rate"] = rate(*p.velocity_h1_error, *s.velocity_h1_error, p.dofs, s.dofs);
+          }
+        for (const auto &[id, f] : s.boundary_force)
+          {
+            cycle["force_x_" + std::to_string(id)] = f[0];
+            cycle["force_y_" + std::to_string(id)] = f[1];
+          }
+        for (const auto &[id, value] : s.flux)
+          cycle["flux_" + std::to_string(id)] = value;
+        for (const auto &[id, value] : s.die_normal_force)
+          cycle["die_normal_" + std::to_string(id)] = value;
+        for (const auto &[id, value] : s.die_friction_force)
+          cycle["die_friction_" + std::to_string(id)] = value;
+        for (const auto &[name, value] : cycle)
+          {
+            q[name + "_c" + std::to_string(c)] = value;
+            if (c + 1 == summary.cycles.size())
+              q[name] = value;
+          }
+      }
+    return q;
+  }
+
+  std::string
+  format(const double x, const unsigned int precision)
+  {
+    if (std::isnan(x))
+      return "-";
+    std::ostringstream s;
+    if (x == std::round(x) && std::abs(x) < 1e9)
+      s << static_cast<long long>(x);
+    else
+      s << std::scientific << std::setprecision(precision - 1) << x;
+    return s.str();
+  }
+} // namespace
+
+
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  if (argc != 2)
+    {
+      std::cerr << "usage: dieflow_check TEST.prm" << std::endl;
+      return 1;
+    }
+  ParameterHandler prm;
+  RunSummary       summary;
+  int              status = exit_converged;
+  std::ofstream    log("log.txt");
+  try
+    {
+      read_deck(argv[1], prm, declare_test_section);
+      summary = run_deck(prm, log);
+      status  = summary.converged ? exit_converged : exit_not_converged;
+    }
+  catch (const InputError &error)
+    {
+      status = exit_bad_input;
+      std::cout << "dieflow: error: " << error.what() << std::endl;
+    }
+  catch (const dealii::ExceptionBase &exc)
+    {
+      status = exit_bad_input;
+      std::cout << "dieflow: error: " << one_line_message(exc) << std::endl;
+    }
+  std::cout << "exit status: " << status << std::endl;
+  if (status == exit_bad_input)
+    return 0;
+  if (!summary.failure.empty())
+    std::cout << "failure: " << summary.failure << std::endl;
+
+  prm.enter_subsection("Test");
+  const auto         columns   = dealii::Utilities::split_string_list(prm.get("Columns"));
+  const unsigned int precision = prm.get_integer("Precision");
+  const auto         checks    = dealii::Utilities::split_string_list(prm.get("Checks"), ';');
+  prm.leave_subsection();
+
+  const auto q = quantities(summary, status);
+  if (!columns.empty())
+    {
+      std::cout << "cycle";
+      for (const auto &c : columns)
+        std::cout << ' ' << c;
+      std::cout << std::endl;
+      for (unsigned int c = 0; c < summary.cycles.size(); ++c)
+        {
+          std::cout << c;
+          for (const auto &name : columns)
+            {
+              const auto it = q.find(name + "_c" + std::to_string(c));
+              std::cout << ' ' << (it == q.end() ? "?" : format(it->second, precision));
+            }
+          std::cout << std::endl;
+        }
+    }
+
+  for (const auto &check : checks)
+    {
+      if (check.empty())
+        continue;
+      const auto colon      = check.find(':');
+      const auto label      = check.substr(0, colon);
+      const auto expression = check.substr(colon + 1);
+      std::string verdict;
+      try
+        {
+          dealii::FunctionParser<1> parser(1);
+          parser.initialize("unused", expression, q);
+          const double value = parser.value(dealii::Point<1>());
+          verdict            = (value != 0 && std::isfinite(value)) ? "PASS" : "FAIL";
+        }
+      catch (const std::exception &exc)
+        {
+          verdict = "cannot evaluate: " + one_line_message(exc);
+        }
+      std::cout << "check " << label << ": " << verdict << std::endl;
+    }
+  return 0;
+}
