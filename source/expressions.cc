@@ -4,6 +4,8 @@
 #include <deal.II/lac/vector.h>
 
 #include <cmath>
+#include <iostream>
+#include <sstream>
 
 namespace dieflow
 {
@@ -31,6 +33,20 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The parser's own words from deal.II's ExcParseError.
+    std::string
+    muparser_reason(const std::exception &exc)
+    {
+      const std::string text = one_line_message(exc);
+      const auto        said = text.find("The parser said: ");
+      return said == std::string::npos ? text : text.substr(said + 17);
+    }
+  } // namespace
+
+
+
   template <int dim>
   std::unique_ptr<dealii::FunctionParser<dim>>
   parse_vector_expression(const std::string &entry,
@@ -43,9 +59,14 @@ namespace dieflow
             "'" + expression + "' has " + std::to_string(components.size()) +
               " components separated by ';', but Dimension = " +
               std::to_string(dim) + " needs " + std::to_string(dim));
-    const auto constants = parse_constants(entry, constants_text);
+    auto constants = parse_constants(entry, constants_text);
+    constants.emplace("pi", dealii::numbers::PI);
 
     auto function = std::make_unique<dealii::FunctionParser<dim>>(dim);
+    // deal.II's muparser wrapper writes the parser's complaint to std::cerr
+    // before throwing; the user gets the one-line message below instead.
+    std::ostringstream muted;
+    std::streambuf *   cerr_buffer = std::cerr.rdbuf(muted.rdbuf());
     try
       {
         function->initialize(dim == 2 ? "x,y" : "x,y,z", components, constants);
@@ -56,9 +77,10 @@ namespace dieflow
       }
     catch (const std::exception &exc)
       {
-        throw InputError(entry + ": cannot parse '" + expression +
-                         "': " + one_line_message(exc));
+        std::cerr.rdbuf(cerr_buffer);
+        throw InputError(entry + ": cannot parse '" + expression + "': " + muparser_reason(exc));
       }
+    std::cerr.rdbuf(cerr_buffer);
     return function;
   }
 

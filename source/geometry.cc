@@ -6,6 +6,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 
@@ -66,7 +67,8 @@ namespace dieflow
                         Anything(),
                         "Gmsh .msh file (format 2 or 4) of quadrilaterals "
                         "(hexahedra in 3D) for Source = gmsh; the physical group "
-                        "number of each boundary line (surface) is its boundary id.");
+                        "number of each boundary line (surface) is its boundary id. "
+                        "A relative path is relative to the deck's directory.");
       prm.declare_entry("Global refinements",
                         "0",
                         Integer(0, 12),
@@ -354,9 +356,12 @@ namespace dieflow
 
     template <int dim>
     void
-    read_gmsh(const std::string &file_name, Triangulation<dim> &triangulation)
+    read_gmsh(const std::string &file_name, const std::string &base_directory, Triangulation<dim> &triangulation)
     {
-      std::ifstream in(file_name);
+      std::filesystem::path path(file_name);
+      if (path.is_relative() && !base_directory.empty())
+        path = std::filesystem::path(base_directory) / path;
+      std::ifstream in(path);
       require(static_cast<bool>(in),
               "Mesh/Gmsh file",
               "cannot open '" + file_name + "' (missing or unreadable)");
@@ -401,7 +406,7 @@ namespace dieflow
     else if (parameters.source == "box")
       make_box(parameters.box, triangulation);
     else
-      read_gmsh(parameters.gmsh_file, triangulation);
+      read_gmsh(parameters.gmsh_file, parameters.base_directory, triangulation);
 
     triangulation.refine_global(parameters.global_refinements);
   }

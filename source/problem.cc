@@ -72,7 +72,7 @@ namespace dieflow
 
 
   template <int dim>
-  DieFlowProblem<dim>::DieFlowProblem(ParameterHandler &prm, std::ostream &log)
+  DieFlowProblem<dim>::DieFlowProblem(ParameterHandler &prm, const std::string &deck_directory, std::ostream &log)
     : log(log)
     , fe(dealii::FE_Q<dim>(1), dim)
     , dof_handler(triangulation)
@@ -80,6 +80,7 @@ namespace dieflow
   {
     run_parameters.parse_parameters(prm);
     mesh_parameters.parse_parameters(prm);
+    mesh_parameters.base_directory = deck_directory;
     material.parse_parameters(prm);
     boundary_conditions.parse_parameters(prm);
     nonlinear_solver.parse_parameters(prm);
@@ -93,6 +94,9 @@ namespace dieflow
                                                     prm.get("Constants"));
     prm.leave_subsection();
 
+    assembler.set_tangent(nonlinear_solver.newton_tangent == "standard" ?
+                            FlowAssembler<dim>::Tangent::standard :
+                            FlowAssembler<dim>::Tangent::primal_dual);
     if (boundary_conditions.has_body_force)
       assembler.set_body_force(boundary_conditions.body_force.get());
 

@@ -1,6 +1,7 @@
 #include <dieflow/problem.h>
 #include <dieflow/run.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -57,10 +58,24 @@ namespace dieflow
 
 
   RunSummary
-  run_deck(ParameterHandler &prm, std::ostream &log)
+  run_deck(ParameterHandler &prm, const std::string &deck_directory, std::ostream &log)
   {
-    DieFlowProblem<2> problem(prm, log);
+    DieFlowProblem<2> problem(prm, deck_directory, log);
     return problem.run();
+  }
+
+
+
+  std::string
+  deck_error_message(const std::exception &exc, const std::string &file_name)
+  {
+    // deal.II names the deck by the path it was given; the file's name says
+    // the same to the user, wherever the deck lives.
+    std::string message = one_line_message(exc);
+    const std::string name = std::filesystem::path(file_name).filename().string();
+    for (std::size_t at; !file_name.empty() && (at = message.find(file_name)) != std::string::npos;)
+      message.replace(at, file_name.size(), name);
+    return message;
   }
 
 
@@ -98,7 +113,8 @@ namespace dieflow
         ParameterHandler prm;
         read_deck(argument, prm);
         std::cout << "dieflow: " << argument << std::endl;
-        const RunSummary summary = run_deck(prm, std::cout);
+        const RunSummary summary =
+          run_deck(prm, std::filesystem::path(argument).parent_path().string(), std::cout);
         std::cout << (summary.converged ? "converged" : "NOT converged: " + summary.failure) << "; results in "
                   << prm.get("Output directory") << "/ (summary.json"
                   << (prm.get_bool("Write VTU") ? ", solution.pvd)" : ")") << ", wall time "
@@ -114,7 +130,7 @@ namespace dieflow
       {
         // ParameterHandler reports unknown entries, bad values and syntax
         // errors of the deck through deal.II exceptions.
-        std::cerr << "dieflow: error: " << one_line_message(exc) << std::endl;
+        std::cerr << "dieflow: error: " << deck_error_message(exc, argument) << std::endl;
         return exit_bad_input;
       }
     catch (const std::exception &exc)

@@ -76,7 +76,10 @@ namespace dieflow
     std::string   source = "die2d";
     Die2dGeometry die2d;
     BoxGeometry   box;
+    /// As written in the deck (error messages name it so).
     std::string   gmsh_file;
+    /// Directory that a relative Gmsh file name is relative to: the deck's.
+    std::string   base_directory;
     unsigned int  global_refinements = 0;
 
     static void

@@ -115,6 +115,7 @@ namespace dieflow
 
   public:
     std::string  method                     = "Newton";
+    std::string  newton_tangent             = "primal-dual";
     unsigned int maximum_iterations         = 50;
     double       residual_tolerance         = 1e-8;
     double       update_tolerance           = 1e-8;

@@ -56,7 +56,7 @@ namespace dieflow
     static void
     declare_parameters(ParameterHandler &prm, const DeckLayout &layout);
 
-    DieFlowProblem(ParameterHandler &prm, std::ostream &log);
+    DieFlowProblem(ParameterHandler &prm, const std::string &deck_directory, std::ostream &log);
 
     /// Runs every cycle; writes summary.json (also when it fails to converge).
     RunSummary

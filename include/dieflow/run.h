@@ -34,9 +34,15 @@ namespace dieflow
   void
   declare_default_deck(ParameterHandler &prm);
 
-  /// Runs the deck read into @p prm, logging to @p log.
+  /// Runs the deck read into @p prm (relative mesh files are relative to
+  /// @p deck_directory), logging to @p log.
   RunSummary
-  run_deck(ParameterHandler &prm, std::ostream &log);
+  run_deck(ParameterHandler &prm, const std::string &deck_directory, std::ostream &log);
+
+  /// The one-line message of an error met while reading the deck
+  /// @p file_name, naming the deck by its file name.
+  std::string
+  deck_error_message(const std::exception &exc, const std::string &file_name);
 
   /// The command line of the program: returns the exit status.
   int

@@ -12,6 +12,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -137,7 +138,7 @@ main(int argc, char **argv)
   try
     {
       read_deck(argv[1], prm, declare_test_section);
-      summary = run_deck(prm, log);
+      summary = run_deck(prm, std::filesystem::path(argv[1]).parent_path().string(), log);
       status  = summary.converged ? exit_converged : exit_not_converged;
     }
   catch (const InputError &error)
@@ -148,7 +149,7 @@ main(int argc, char **argv)
   catch (const dealii::ExceptionBase &exc)
     {
       status = exit_bad_input;
-      std::cout << "dieflow: error: " << one_line_message(exc) << std::endl;
+      std::cout << "dieflow: error: " << deck_error_message(exc, argv[1]) << std::endl;
     }
   std::cout << "exit status: " << status << std::endl;
   if (status == exit_bad_input)

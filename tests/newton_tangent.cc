@@ -1,0 +1,109 @@
+// The assembled Newton tangent against finite differences of the assembled
+// residual, on a distorted mesh with a non-trivial velocity field, for the
+// nonlinear laws: J w = (R(v + e w) - R(v - e w)) / (2e) + O(e^2). With
+// e = 1e-5 relative the truncation error is ~1e-10 and the round-off of R
+// (penalty 100 eta) ~1e-11: tolerance 1e-7. Also: the tangent is symmetric,
+// and the primal-dual tangent with S = D/r is the consistent one.
+#include <dieflow/flow_assembler.h>
+#include <dieflow/geometry.h>
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include <cmath>
+#include <iostream>
+
+using namespace dieflow;
+
+namespace
+{
+  void
+  report(const std::string &what, const bool ok)
+  {
+    std::cout << what << ": " << (ok ? "yes" : "NO") << std::endl;
+  }
+
+  void
+  check_law(const std::string &deck, const std::string &name)
+  {
+    ParameterHandler prm;
+    Material::declare_parameters(prm);
+    prm.parse_input_from_string(deck);
+    Material material;
+    material.parse_parameters(prm);
+
+    MeshParameters mesh;
+    mesh.source = "box";
+    mesh.box.lower = {0, 0};
+    mesh.box.upper = {3, 2};
+    mesh.box.subdivisions = {3, 2};
+    mesh.box.distortion = 0.25;
+    dealii::Triangulation<2> triangulation;
+    make_mesh(mesh, triangulation);
+    dealii::FESystem<2> fe(dealii::FE_Q<2>(1), 2);
+    DoFHandler<2>       dof_handler(triangulation);
+    dof_handler.distribute_dofs(fe);
+    AffineConstraints<double> none;
+    none.close();
+    dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
+    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp);
+    dealii::SparsityPattern pattern;
+    pattern.copy_from(dsp);
+    SparseMatrix<double> J(pattern), J_pd(pattern);
+
+    const unsigned int n = dof_handler.n_dofs();
+    Vector<double>     v(n), w(n), rhs(n), raw(n), Jw(n), fd(n), r_plus(n), r_minus(n);
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        v[i] = std::sin(1.3 * i + 0.4) + 0.5 * std::cos(0.7 * i * i);
+        w[i] = std::cos(2.1 * i + 1.0);
+      }
+
+    FlowAssembler<2> assembler(material, nullptr);
+    assembler.set_penalty(100 * material.evaluate(1.).eta);
+    assembler.set_tangent(FlowAssembler<2>::Tangent::standard);
+    assembler.assemble_system(dof_handler, v, none, Linearization::newton, J, rhs, raw);
+    J.vmult(Jw, w);
+
+    const double e = 1e-5 * v.l2_norm() / w.l2_norm();
+    Vector<double> shifted = v;
+    shifted.add(e, w);
+    assembler.assemble_residual(dof_handler, shifted, none, r_plus, raw);
+    shifted.add(-2 * e, w);
+    assembler.assemble_residual(dof_handler, shifted, none, r_minus, raw);
+    // rhs = -R, so J w = -(r_plus - r_minus) / 2e.
+    fd = r_minus;
+    fd -= r_plus;
+    fd /= 2 * e;
+    Vector<double> difference = fd;
+    difference -= Jw;
+    report(name + ": Newton tangent matches finite differences (1e-7)",
+           difference.l2_norm() < 1e-7 * Jw.l2_norm());
+
+    double asymmetry = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      for (auto entry = J.begin(i); entry != J.end(i); ++entry)
+        asymmetry = std::max(asymmetry, std::abs(entry->value() - J.el(entry->column(), i)));
+    report(name + ": tangent is symmetric", asymmetry < 1e-12 * J.linfty_norm());
+
+    assembler.set_tangent(FlowAssembler<2>::Tangent::primal_dual);
+    assembler.update_dual(dof_handler, v, nullptr, 0);
+    assembler.assemble_system(dof_handler, v, none, Linearization::newton, J_pd, rhs, raw);
+    J_pd.add(-1., J);
+    report(name + ": primal-dual tangent with S = D/r is the consistent one",
+           J_pd.linfty_norm() < 1e-12 * J.linfty_norm());
+  }
+} // namespace
+
+int
+main()
+{
+  check_law("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\n"
+            " set Minimum strain rate = 1e-3\nend\n",
+            "Norton-Hoff m = 0.3");
+  check_law("subsection Material\n set Law = Sellars-Tegart\n set Minimum strain rate = 1e-3\nend\n",
+            "Sellars-Tegart");
+}
