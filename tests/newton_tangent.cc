@@ -13,6 +13,8 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include "report.h"
+
 #include <cmath>
 #include <iostream>
 
@@ -20,12 +22,6 @@ using namespace dieflow;
 
 namespace
 {
-  void
-  report(const std::string &what, const bool ok)
-  {
-    std::cout << what << ": " << (ok ? "yes" : "NO") << std::endl;
-  }
-
   void
   check_law(const std::string &deck, const std::string &name)
   {

@@ -9,6 +9,8 @@
 //    1e-7 (the Newton solution's own error is below 1e-10).
 #include <dieflow/run.h>
 
+#include "report.h"
+
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -30,12 +32,6 @@ namespace
     read_deck("deck.prm", prm);
     std::ostringstream log;
     return run_deck(prm, ".", log);
-  }
-
-  void
-  report(const std::string &what, const bool ok)
-  {
-    std::cout << what << ": " << (ok ? "yes" : "NO") << std::endl;
   }
 } // namespace
 

@@ -8,6 +8,8 @@
 //    epsdot_min, and its derivative is the chain rule of sqrt(e^2 + e0^2).
 #include <dieflow/material.h>
 
+#include "report.h"
+
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -28,12 +30,6 @@ namespace
         worst = std::max(worst, std::abs(fd - law.derivative(rate)) / scale);
       }
     return worst;
-  }
-
-  void
-  report(const std::string &what, const bool ok)
-  {
-    std::cout << what << ": " << (ok ? "yes" : "NO") << std::endl;
   }
 } // namespace
 

@@ -8,6 +8,8 @@
 
 #include <deal.II/lac/vector.h>
 
+#include "report.h"
+
 #include <cmath>
 #include <iostream>
 
@@ -28,12 +30,6 @@ namespace
   normal_velocity(const dealii::Vector<double> &v, const Tensor<1, 2> &n)
   {
     return v[0] * n[0] + v[1] * n[1];
-  }
-
-  void
-  report(const std::string &what, const bool ok)
-  {
-    std::cout << what << ": " << (ok ? "yes" : "NO") << std::endl;
   }
 } // namespace
 
