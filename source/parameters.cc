@@ -30,6 +30,12 @@ namespace dieflow
                       "Write the solution of every cycle as VTU with a PVD index "
                       "for ParaView (velocity, pressure, equivalent strain rate "
                       "and stress, viscosity). summary.json is always written.");
+    prm.declare_entry("Write gnuplot",
+                      "false",
+                      Bool(),
+                      "Also write the fields of every cycle as solution-CYCLE.gnuplot "
+                      "(columns x, y, velocity, derived fields, pressure; one "
+                      "block per cell) for gnuplot's pm3d, without ParaView.");
     prm.declare_entry("Write mesh SVG",
                       "false",
                       Bool(),
@@ -46,6 +52,7 @@ namespace dieflow
     output_directory = prm.get("Output directory");
     write_vtu        = prm.get_bool("Write VTU");
     write_mesh_svg   = prm.get_bool("Write mesh SVG");
+    write_gnuplot    = prm.get_bool("Write gnuplot");
     require(!output_directory.empty(),
             "Output directory",
             "must not be empty (use . for the working directory)");

@@ -280,13 +280,15 @@ namespace dieflow
 
   template <int dim>
   void
-  write_vtu(const DoFHandler<dim> &                         dof_handler,
+  write_fields(const DoFHandler<dim> &                         dof_handler,
             const Vector<double> &                          velocity,
             const Material &                                material,
             const double                                    penalty,
             const std::map<std::string, Vector<double>> &   nodal_fields,
             const std::string &                             directory,
             const unsigned int                              cycle,
+            const bool                                      vtu,
+            const bool                                      gnuplot,
             std::vector<std::pair<double, std::string>> &   pvd_records)
   {
     const auto &triangulation = dof_handler.get_triangulation();
@@ -327,12 +329,20 @@ namespace dieflow
     data_out.add_data_vector(p_cell, "cell_pressure", dealii::DataOut<dim>::type_cell_data);
     data_out.build_patches();
 
-    const std::string name = "solution-" + dealii::Utilities::int_to_string(cycle, 2) + ".vtu";
-    std::ofstream     out(directory + "/" + name);
-    data_out.write_vtu(out);
-    pvd_records.emplace_back(cycle, name);
-    std::ofstream pvd(directory + "/solution.pvd");
-    dealii::DataOutBase::write_pvd_record(pvd, pvd_records);
+    const std::string stem = "solution-" + dealii::Utilities::int_to_string(cycle, 2);
+    if (vtu)
+      {
+        std::ofstream out(directory + "/" + stem + ".vtu");
+        data_out.write_vtu(out);
+        pvd_records.emplace_back(cycle, stem + ".vtu");
+        std::ofstream pvd(directory + "/solution.pvd");
+        dealii::DataOutBase::write_pvd_record(pvd, pvd_records);
+      }
+    if (gnuplot)
+      {
+        std::ofstream out(directory + "/" + stem + ".gnuplot");
+        data_out.write_gnuplot(out);
+      }
   }
 
   template std::map<BoundaryId, double>
@@ -346,7 +356,7 @@ namespace dieflow
   template Vector<double>
   cell_pressure<2>(const DoFHandler<2> &, const Vector<double> &, const double);
   template void
-  write_vtu<2>(const DoFHandler<2> &, const Vector<double> &, const Material &, const double,
-               const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
-               std::vector<std::pair<double, std::string>> &);
+  write_fields<2>(const DoFHandler<2> &, const Vector<double> &, const Material &, const double,
+                  const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
+                  const bool, const bool, std::vector<std::pair<double, std::string>> &);
 } // namespace dieflow

@@ -5,11 +5,13 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
+#include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/numerics/solution_transfer.h>
 
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 
 namespace dieflow
@@ -74,6 +76,7 @@ namespace dieflow
   template <int dim>
   DieFlowProblem<dim>::DieFlowProblem(ParameterHandler &prm, const std::string &deck_directory, std::ostream &log)
     : log(log)
+    , timer(log, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
     , fe(dealii::FE_Q<dim>(1), dim)
     , dof_handler(triangulation)
     , assembler(material, nullptr)
@@ -115,6 +118,7 @@ namespace dieflow
   void
   DieFlowProblem<dim>::setup_system()
   {
+    dealii::TimerOutput::Scope scope(timer, "setup");
     dof_handler.distribute_dofs(fe);
 
     hanging_node_constraints.clear();
@@ -173,6 +177,7 @@ namespace dieflow
   double
   DieFlowProblem<dim>::assemble_system(const Vector<double> &v, const Linearization linearization)
   {
+    dealii::TimerOutput::Scope scope(timer, "assembly");
     assembler.assemble_system(dof_handler, v, update_constraints, linearization, system_matrix, system_rhs, raw_residual);
     return relative_residual(system_rhs);
   }
@@ -183,6 +188,7 @@ namespace dieflow
   double
   DieFlowProblem<dim>::residual(const Vector<double> &v, Vector<double> &minus_residual)
   {
+    dealii::TimerOutput::Scope scope(timer, "assembly");
     assembler.assemble_residual(dof_handler, v, update_constraints, minus_residual, raw_residual);
     return relative_residual(minus_residual);
   }
@@ -193,6 +199,7 @@ namespace dieflow
   void
   DieFlowProblem<dim>::solve(Vector<double> &update)
   {
+    dealii::TimerOutput::Scope scope(timer, "linear solve");
     linear_solver.factorize(system_matrix);
     update.reinit(dof_handler.n_dofs());
     linear_solver.solve(system_rhs, update);
@@ -262,7 +269,10 @@ namespace dieflow
     newtonian.set_newtonian(start_viscosity);
     FlowAssembler<dim> start(newtonian, assembler.body_force_function());
     start.set_penalty(material.penalty_factor * start_viscosity);
-    start.assemble_system(dof_handler, velocity, update_constraints, Linearization::picard, system_matrix, system_rhs, raw_residual);
+    {
+      dealii::TimerOutput::Scope scope(timer, "assembly");
+      start.assemble_system(dof_handler, velocity, update_constraints, Linearization::picard, system_matrix, system_rhs, raw_residual);
+    }
     Vector<double> update;
     solve(update);
     velocity += update;
@@ -281,6 +291,7 @@ namespace dieflow
   void
   DieFlowProblem<dim>::postprocess(CycleSummary &summary)
   {
+    dealii::TimerOutput::Scope scope(timer, "postprocess");
     summary.cells = triangulation.n_active_cells();
     summary.dofs  = dof_handler.n_dofs();
     summary.flux  = boundary_fluxes(dof_handler, velocity);
@@ -302,15 +313,23 @@ namespace dieflow
         summary.velocity_h1_error = errors.second;
       }
 
-    if (run_parameters.write_vtu)
-      write_vtu(dof_handler,
-                velocity,
-                material,
-                assembler.get_penalty(),
-                {},
-                run_parameters.output_directory,
-                summary.cycle,
-                pvd_records);
+    if (run_parameters.write_vtu || run_parameters.write_gnuplot)
+      write_fields(dof_handler,
+                   velocity,
+                   material,
+                   assembler.get_penalty(),
+                   {},
+                   run_parameters.output_directory,
+                   summary.cycle,
+                   run_parameters.write_vtu,
+                   run_parameters.write_gnuplot,
+                   pvd_records);
+    if (run_parameters.write_mesh_svg)
+      {
+        std::ofstream       svg(run_parameters.output_directory + "/mesh-" +
+                          dealii::Utilities::int_to_string(summary.cycle, 2) + ".svg");
+        dealii::GridOut().write_svg(triangulation, svg);
+      }
   }
 
 
@@ -319,6 +338,7 @@ namespace dieflow
   void
   DieFlowProblem<dim>::refine_mesh()
   {
+    dealii::TimerOutput::Scope scope(timer, "refinement");
     dealii::SolutionTransfer<dim, Vector<double>> transfer(dof_handler);
     triangulation.set_all_refine_flags();
     triangulation.prepare_coarsening_and_refinement();
@@ -382,7 +402,17 @@ namespace dieflow
 
     summary.converged = summary.failure.empty();
     summary.wall_time = run_timer.wall_time();
+    summary.stage_wall_time = timer.get_summary_data(dealii::TimerOutput::total_wall_time);
+    dealii::Utilities::System::MemoryStats memory;
+    dealii::Utilities::System::get_memory_stats(memory);
+    summary.peak_memory_mb = memory.VmHWM / 1024.;
     write_summary_json(summary, summary_file);
+
+    log << "wall time " << std::fixed << std::setprecision(3) << summary.wall_time << " s:";
+    for (const auto &[stage, seconds] : summary.stage_wall_time)
+      log << ' ' << stage << ' ' << seconds;
+    log << "; peak memory " << std::setprecision(1) << summary.peak_memory_mb << " MB" << std::defaultfloat
+        << std::endl;
     return summary;
   }
 

@@ -68,6 +68,12 @@ namespace dieflow
     out << "{\n"
         << "  \"converged\": " << (summary.converged ? "true" : "false") << ",\n"
         << "  \"wall_time\": " << number(summary.wall_time) << ",\n";
+    out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
+        << "  \"stage_wall_time\": {";
+    for (auto it = summary.stage_wall_time.begin(); it != summary.stage_wall_time.end(); ++it)
+      out << (it == summary.stage_wall_time.begin() ? "" : ", ") << string(it->first) << ": "
+          << number(it->second);
+    out << "},\n";
     if (!summary.failure.empty())
       out << "  \"failure\": " << string(summary.failure) << ",\n";
     out << "  \"cycles\": [";

@@ -34,6 +34,7 @@ namespace dieflow
     std::string  output_directory = "output/die2d";
     bool         write_vtu        = true;
     bool         write_mesh_svg   = false;
+    bool         write_gnuplot    = false;
 
     static void
     declare_parameters(ParameterHandler &prm);

@@ -66,17 +66,19 @@ namespace dieflow
    * Writes velocity, pressure (the cell-centre penalty pressure, and its
    * area-weighted average at the vertices, which filters the checkerboard
    * mode of Q1-P0), equivalent strain rate and stress, and viscosity as
-   * VTU, and appends the file to the PVD index of the run.
+   * VTU (appended to the PVD index of the run) and/or gnuplot.
    */
   template <int dim>
   void
-  write_vtu(const DoFHandler<dim> &                               dof_handler,
+  write_fields(const DoFHandler<dim> &                               dof_handler,
             const Vector<double> &                                velocity,
             const Material &                                      material,
             const double                                          penalty,
             const std::map<std::string, Vector<double>> &        nodal_fields,
             const std::string &                                   directory,
             const unsigned int                                    cycle,
+            const bool                                            vtu,
+            const bool                                            gnuplot,
             std::vector<std::pair<double, std::string>> &         pvd_records);
 } // namespace dieflow
 

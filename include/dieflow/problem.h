@@ -12,6 +12,7 @@
 #include <dieflow/wall_nodes.h>
 
 #include <deal.II/base/function_parser.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/grid/tria.h>
@@ -105,6 +106,8 @@ namespace dieflow
     std::unique_ptr<dealii::FunctionParser<dim>> exact_velocity;
 
     std::ostream &log;
+    /// Wall time per stage: setup, assembly, linear solve, postprocess, refinement.
+    dealii::TimerOutput timer;
 
     dealii::Triangulation<dim> triangulation;
     dealii::FESystem<dim>      fe;

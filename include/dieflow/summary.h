@@ -53,6 +53,10 @@ namespace dieflow
     double                    wall_time = 0;
     std::string               failure;
     std::vector<CycleSummary> cycles;
+    /// Wall time (s) per stage: setup, assembly, linear solve, postprocess, refinement.
+    std::map<std::string, double> stage_wall_time;
+    /// Peak resident memory of the process (MB).
+    double peak_memory_mb = 0;
   };
 
   /// Writes @p summary as JSON (the summary.json contract of interface.md).

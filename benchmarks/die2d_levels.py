@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""Wall time and peak memory of die2d with material P (Norton-Hoff, m = 0.2,
+slip walls, free outlet) at several mesh levels, split into assembly, linear
+solve and the rest, with dofs and iterations. Each level runs in a process
+of its own, so the peak memory is that level's.
+
+    benchmarks/die2d_levels.py [--levels 4] [--program build/dieflow]
+
+Not a test: the figures depend on the machine, which the report names.
+"""
+import argparse, json, os, platform, subprocess, sys, tempfile
+
+def machine():
+    model = "unknown CPU"
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return "%s, %d cores, %s" % (model, os.cpu_count(), platform.platform())
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    root = os.path.dirname(here)
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--levels", type=int, default=4)
+    parser.add_argument("--cells-across", type=int, default=8)
+    parser.add_argument("--program", default=os.path.join(root, "build", "dieflow"))
+    parser.add_argument("--tangent", default="primal-dual", choices=["primal-dual", "standard"])
+    args = parser.parse_args()
+
+    base = open(os.path.join(root, "parameters", "die2d-norton-hoff.prm")).read()
+    print("die2d, material P (Norton-Hoff m = 0.2), slip walls; %s Newton from a Newtonian start" % args.tangent)
+    print("machine: " + machine())
+    print()
+    print("| level | cells across | cells | dofs | Newton its | linear solves | wall [s] | assembly [s] | linear solve [s] | rest [s] | peak memory [MB] | ram force [N/mm] |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for level in range(args.levels):
+        across = args.cells_across * 2**level
+        with tempfile.TemporaryDirectory() as work:
+            deck = os.path.join(work, "deck.prm")
+            with open(deck, "w") as f:
+                f.write(base)
+                f.write("\nset Output directory = %s\nset Write VTU = false\n" % work)
+                f.write("subsection Mesh\n subsection Die2d\n  set Cells across = %d\n end\nend\n" % across)
+                f.write("subsection Nonlinear solver\n set Newton tangent = %s\nend\n" % args.tangent)
+            subprocess.run([args.program, deck], check=True, stdout=subprocess.DEVNULL)
+            s = json.load(open(os.path.join(work, "summary.json")))
+        c = s["cycles"][0]
+        stages = s["stage_wall_time"]
+        assembly, solve = stages.get("assembly", 0), stages.get("linear solve", 0)
+        rest = s["wall_time"] - assembly - solve
+        print("| %d | %d | %d | %d | %d | %d | %.2f | %.2f | %.2f | %.2f | %.0f | %.4f |" % (
+            level, across, c["cells"], c["dofs"], c["nonlinear_iterations"], c["linear_solves"],
+            s["wall_time"], assembly, solve, rest, s["peak_memory_mb"], c["boundary_force"]["1"][0]))
+        sys.stdout.flush()
+
+if __name__ == "__main__":
+    main()
