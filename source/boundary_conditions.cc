@@ -51,7 +51,7 @@ namespace dieflow
                         Anything(),
                         "Boundary ids of symmetry lines (planes): v.n = 0, no shear.");
       prm.declare_entry("Slip wall ids",
-                        "3, 4",
+                        "",
                         Anything(),
                         "Boundary ids of fixed frictionless walls: v.n = 0, no "
                         "shear. For contact with friction and separation, list "
@@ -170,6 +170,19 @@ namespace dieflow
     check(symmetry_ids, "Symmetry ids");
     check(slip_wall_ids, "Slip wall ids");
     check(traction_free_ids, "Traction free ids");
+  }
+
+
+
+  template <int dim>
+  void
+  BoundaryConditions<dim>::make_prescribed_constraints(const DoFHandler<dim> &    dof_handler,
+                                                       AffineConstraints<double> &constraints) const
+  {
+    constraints.clear();
+    for (const auto &[id, function] : velocity)
+      dealii::VectorTools::interpolate_boundary_values(dof_handler, id, *function, constraints, velocity_components.at(id));
+    constraints.close();
   }
 
 

@@ -39,6 +39,50 @@ namespace dieflow
       dealii::Vector<double>                            force;
     };
 
+    /// Rows of each transformed node of the cell: (rows_a) <- sum_b T(a,b) (rows_b).
+    template <int dim>
+    void
+    apply_row_transforms(const dealii::FiniteElement<dim> &                  fe,
+                         const RowTransforms &                               transforms,
+                         const std::vector<dealii::types::global_dof_index> &dofs,
+                         dealii::FullMatrix<double> *                        matrix,
+                         dealii::Vector<double> &                            residual)
+    {
+      for (const unsigned int v : dealii::GeometryInfo<dim>::vertex_indices())
+        {
+          unsigned int rows[dim];
+          for (unsigned int d = 0; d < dim; ++d)
+            rows[d] = fe.component_to_system_index(d, v);
+          const auto found = transforms.find(dofs[rows[0]]);
+          if (found == transforms.end())
+            continue;
+          const auto &T = found->second;
+          double      r[dim];
+          for (unsigned int a = 0; a < dim; ++a)
+            {
+              r[a] = 0;
+              for (unsigned int b = 0; b < dim; ++b)
+                r[a] += T(a, b) * residual[rows[b]];
+            }
+          for (unsigned int a = 0; a < dim; ++a)
+            residual[rows[a]] = r[a];
+          if (matrix == nullptr)
+            continue;
+          for (unsigned int j = 0; j < matrix->n(); ++j)
+            {
+              double m[dim];
+              for (unsigned int a = 0; a < dim; ++a)
+                {
+                  m[a] = 0;
+                  for (unsigned int b = 0; b < dim; ++b)
+                    m[a] += T(a, b) * (*matrix)(rows[b], j);
+                }
+              for (unsigned int a = 0; a < dim; ++a)
+                (*matrix)(rows[a], j) = m[a];
+            }
+        }
+    }
+
     struct CopyData
     {
       dealii::FullMatrix<double>                   matrix;
@@ -65,7 +109,8 @@ namespace dieflow
                                const Linearization              linearization,
                                SparseMatrix<double> *           matrix,
                                Vector<double> &                 rhs,
-                               Vector<double> &                 raw_residual) const
+                               Vector<double> &                 raw_residual,
+                               const RowTransforms *            transforms) const
   {
     Assert(penalty > 0, dealii::ExcMessage("The penalty has not been set."));
     const auto &       fe            = dof_handler.get_fe();
@@ -162,10 +207,21 @@ namespace dieflow
     const auto copier = [&](const CopyData &copy) {
       for (unsigned int i = 0; i < copy.dofs.size(); ++i)
         raw_residual[copy.dofs[i]] += copy.residual[i];
-      Vector<double> minus_residual(copy.residual);
+      Vector<double>                    minus_residual(copy.residual);
+      dealii::FullMatrix<double>        transformed;
+      const dealii::FullMatrix<double> *local_matrix = &copy.matrix;
+      if (transforms != nullptr && !transforms->empty())
+        {
+          if (matrix != nullptr)
+            {
+              transformed  = copy.matrix;
+              local_matrix = &transformed;
+            }
+          apply_row_transforms(fe, *transforms, copy.dofs, matrix != nullptr ? &transformed : nullptr, minus_residual);
+        }
       minus_residual *= -1.;
       if (matrix != nullptr)
-        update_constraints.distribute_local_to_global(copy.matrix, minus_residual, copy.dofs, *matrix, rhs);
+        update_constraints.distribute_local_to_global(*local_matrix, minus_residual, copy.dofs, *matrix, rhs);
       else
         update_constraints.distribute_local_to_global(minus_residual, copy.dofs, rhs);
     };
@@ -188,9 +244,10 @@ namespace dieflow
                                       const Linearization              linearization,
                                       SparseMatrix<double> &           matrix,
                                       Vector<double> &                 rhs,
-                                      Vector<double> &                 raw_residual) const
+                                      Vector<double> &                 raw_residual,
+                                      const RowTransforms *            transforms) const
   {
-    assemble(dof_handler, velocity, update_constraints, linearization, &matrix, rhs, raw_residual);
+    assemble(dof_handler, velocity, update_constraints, linearization, &matrix, rhs, raw_residual, transforms);
   }
 
 
@@ -201,9 +258,10 @@ namespace dieflow
                                         const Vector<double> &           velocity,
                                         const AffineConstraints<double> &update_constraints,
                                         Vector<double> &                 rhs,
-                                        Vector<double> &                 raw_residual) const
+                                        Vector<double> &                 raw_residual,
+                                        const RowTransforms *            transforms) const
   {
-    assemble(dof_handler, velocity, update_constraints, Linearization::picard, nullptr, rhs, raw_residual);
+    assemble(dof_handler, velocity, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms);
   }
 
 

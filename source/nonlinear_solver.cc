@@ -98,8 +98,9 @@ namespace dieflow
            << "  |R|/|F| " << std::scientific << std::setprecision(3) << r.residual;
       if (!first)
         line << "  |dv|/|v| " << r.update << "  step " << std::fixed << std::setprecision(3) << r.step;
-      if (r.state_changes > 0)
-        line << "  contact changes " << r.state_changes;
+      if (r.state_changes.total() > 0)
+        line << "  active set changes " << r.state_changes.normal << ", stick/slip changes "
+             << r.state_changes.tangential;
       log << line.str() << std::endl;
     }
   } // namespace
@@ -149,7 +150,7 @@ namespace dieflow
 
     for (unsigned int k = 0;; ++k)
       {
-        const unsigned int changes = system.update_state(v);
+        const StateChanges changes = system.update_state(v);
         const bool         newton_now =
           (method == "Newton") || (method == "Picard then Newton" && k >= picard_iterations);
         Linearization linearization = newton_now ? Linearization::newton : Linearization::picard;
@@ -169,7 +170,7 @@ namespace dieflow
         // A linear problem (Newtonian, no contact) is solved by its first
         // Newton step up to round-off.
         const bool linear_done = (k > 0 && system.is_linear());
-        if (changes == 0 &&
+        if (changes.total() == 0 &&
             (residual <= residual_tolerance || (k > 0 && last_update <= update_tolerance) || linear_done))
           {
             result.converged = true;

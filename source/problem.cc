@@ -56,6 +56,7 @@ namespace dieflow
     NonlinearSolver::declare_parameters(prm);
     LinearSolver::declare_parameters(prm);
     RefinementParameters::declare_parameters(prm);
+    ContactParameters::declare_parameters(prm);
 
     prm.enter_subsection("Verification");
     prm.declare_entry("Exact velocity",
@@ -89,6 +90,8 @@ namespace dieflow
     nonlinear_solver.parse_parameters(prm);
     linear_solver.parse_parameters(prm);
     refinement.parse_parameters(prm);
+    contact_parameters.parse_parameters(prm);
+    contact.initialize(contact_parameters);
 
     prm.enter_subsection("Verification");
     if (!prm.get("Exact velocity").empty())
@@ -103,9 +106,36 @@ namespace dieflow
     if (boundary_conditions.has_body_force)
       assembler.set_body_force(boundary_conditions.body_force.get());
 
+    auto assigned = boundary_conditions.assigned_ids();
+    for (const BoundaryId id : contact_parameters.die_ids)
+      {
+        const auto [it, inserted] = assigned.emplace(id, "Contact/Die ids");
+        require(inserted,
+                "Contact/Die ids",
+                "boundary id " + std::to_string(id) + " is already listed under " + it->second +
+                  "; a boundary part has one condition (Die ids defaults to die2d's 3, 4: "
+                  "'set Die ids =' for no contact)");
+      }
     make_mesh(mesh_parameters, triangulation);
-    check_boundary_ids(triangulation, boundary_conditions.assigned_ids());
-    boundary_conditions.check_prescribed_fluxes(triangulation, false);
+    check_boundary_ids(triangulation, assigned);
+    boundary_conditions.check_prescribed_fluxes(triangulation, !contact.empty());
+    bool pressure_level_free = boundary_conditions.traction_free_ids.empty();
+    for (const auto &[id, mask] : boundary_conditions.velocity_components)
+      pressure_level_free &= (mask.n_selected_components() == dim);
+    if (!contact.empty() && pressure_level_free)
+      {
+        bool coulomb = false;
+        for (const auto &[id, mu] : contact_parameters.friction_coefficient)
+          coulomb |= mu > 0 && contact_parameters.law != FrictionLaw::Kind::tresca;
+        if (coulomb)
+          log << "warning: no boundary part is traction free: the velocity is prescribed or "
+                 "walled everywhere, so a constant added to the pressure changes no "
+                 "equilibrium; only the penalty's compressibility fixes the pressure level, "
+                 "and with it the Coulomb friction forces and the ram force, which will move "
+                 "with the penalty factor and the mesh (doc/formulation.md). Compare "
+                 "velocities, not forces."
+              << std::endl;
+      }
     require(!boundary_conditions.velocity_ids.empty(),
             "Boundary conditions/Prescribed velocity ids",
             "is empty: without a prescribed velocity nothing drives the flow "
@@ -125,14 +155,15 @@ namespace dieflow
     dealii::DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
     hanging_node_constraints.close();
 
-    wall_nodes = collect_wall_nodes(dof_handler,
-                                    boundary_conditions.wall_ids(),
-                                    hanging_node_constraints,
-                                    boundary_conditions.corner_angle);
-    boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, false, constraints);
-    constraints.close();
-    boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, true, update_constraints);
-    update_constraints.close();
+    std::set<BoundaryId> walls = boundary_conditions.wall_ids();
+    walls.insert(contact_parameters.die_ids.begin(), contact_parameters.die_ids.end());
+    wall_nodes = collect_wall_nodes(dof_handler, walls, hanging_node_constraints, boundary_conditions.corner_angle);
+    if (!contact.empty())
+      {
+        boundary_conditions.make_prescribed_constraints(dof_handler, prescribed_constraints);
+        contact.setup(wall_nodes, prescribed_constraints, dof_handler.n_dofs() > 0 && contact_states_valid);
+      }
+    make_constraints();
 
     // Wall and Dirichlet constraints only couple the components of one node,
     // which the pattern couples anyway: the hanging-node pattern serves all.
@@ -142,6 +173,46 @@ namespace dieflow
     system_matrix.reinit(sparsity_pattern);
     system_rhs.reinit(dof_handler.n_dofs());
     raw_residual.reinit(dof_handler.n_dofs());
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::make_constraints()
+  {
+    boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, false, constraints);
+    contact.add_constraints(constraints);
+    constraints.close();
+    boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, true, update_constraints);
+    contact.add_constraints(update_constraints);
+    update_constraints.close();
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::assemble(const FlowAssembler<dim> &    flow,
+                                const Vector<double> &        v,
+                                const Linearization           linearization,
+                                dealii::SparseMatrix<double> *matrix,
+                                Vector<double> &              minus_residual)
+  {
+    contact_assemblies +=
+      assemble_with_contact(flow, contact, dof_handler, v, update_constraints, linearization, matrix, minus_residual, raw_residual);
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  DieFlowProblem<dim>::nodal_flow_residual(const Vector<double> &v)
+  {
+    Vector<double> unused, reactions;
+    assembler.assemble_residual(dof_handler, v, update_constraints, unused, reactions);
+    hanging_node_constraints.condense(reactions);
+    return reactions;
   }
 
 
@@ -164,11 +235,19 @@ namespace dieflow
 
 
   template <int dim>
-  unsigned int
+  StateChanges
   DieFlowProblem<dim>::update_state(Vector<double> &v)
   {
+    StateChanges changes;
+    if (!contact.empty() && contact_states_valid)
+      {
+        dealii::TimerOutput::Scope scope(timer, "contact");
+        changes = contact.update(v, nodal_flow_residual(v), log);
+        if (changes.normal > 0)
+          make_constraints();
+      }
     constraints.distribute(v);
-    return 0;
+    return changes;
   }
 
 
@@ -178,7 +257,7 @@ namespace dieflow
   DieFlowProblem<dim>::assemble_system(const Vector<double> &v, const Linearization linearization)
   {
     dealii::TimerOutput::Scope scope(timer, "assembly");
-    assembler.assemble_system(dof_handler, v, update_constraints, linearization, system_matrix, system_rhs, raw_residual);
+    assemble(assembler, v, linearization, &system_matrix, system_rhs);
     return relative_residual(system_rhs);
   }
 
@@ -189,7 +268,7 @@ namespace dieflow
   DieFlowProblem<dim>::residual(const Vector<double> &v, Vector<double> &minus_residual)
   {
     dealii::TimerOutput::Scope scope(timer, "assembly");
-    assembler.assemble_residual(dof_handler, v, update_constraints, minus_residual, raw_residual);
+    assemble(assembler, v, Linearization::picard, nullptr, minus_residual);
     return relative_residual(minus_residual);
   }
 
@@ -215,6 +294,7 @@ namespace dieflow
                                    const double          step,
                                    const Linearization   linearization)
   {
+    contact_states_valid = true;
     if (linearization == Linearization::newton)
       assembler.update_dual(dof_handler, v, &update, step);
     else
@@ -231,7 +311,7 @@ namespace dieflow
   bool
   DieFlowProblem<dim>::is_linear() const
   {
-    return material.is_newtonian();
+    return material.is_newtonian() && contact.empty();
   }
 
 
@@ -260,6 +340,7 @@ namespace dieflow
         // step solves it.
         mean_viscosity = start_viscosity;
         assembler.set_penalty(material.penalty_factor * mean_viscosity);
+        contact.set_scales(mean_viscosity, assembler.get_penalty());
         log << "  penalty lambda = " << material.penalty_factor << " x viscosity " << mean_viscosity << " = "
             << assembler.get_penalty() << " MPa s" << std::endl;
         return;
@@ -269,9 +350,10 @@ namespace dieflow
     newtonian.set_newtonian(start_viscosity);
     FlowAssembler<dim> start(newtonian, assembler.body_force_function());
     start.set_penalty(material.penalty_factor * start_viscosity);
+    contact.set_scales(start_viscosity, start.get_penalty());
     {
       dealii::TimerOutput::Scope scope(timer, "assembly");
-      start.assemble_system(dof_handler, velocity, update_constraints, Linearization::picard, system_matrix, system_rhs, raw_residual);
+      assemble(start, velocity, Linearization::picard, &system_matrix, system_rhs);
     }
     Vector<double> update;
     solve(update);
@@ -280,6 +362,8 @@ namespace dieflow
 
     mean_viscosity = assembler.mean_viscosity(dof_handler, velocity);
     assembler.set_penalty(material.penalty_factor * mean_viscosity);
+    contact.set_scales(mean_viscosity, assembler.get_penalty());
+    contact_states_valid = true;
     log << "  Newtonian start: eta = " << std::setprecision(4) << start_viscosity
         << " MPa s; penalty lambda = " << material.penalty_factor << " x mean viscosity "
         << mean_viscosity << " = " << assembler.get_penalty() << " MPa s" << std::endl;
@@ -313,12 +397,30 @@ namespace dieflow
         summary.velocity_h1_error = errors.second;
       }
 
+    std::map<std::string, Vector<double>> nodal_fields;
+    if (!contact.empty())
+      {
+        const auto results = contact.results(velocity);
+        contact.summarise(results, velocity.linfty_norm(), summary);
+        contact.write_profiles(results, run_parameters.output_directory);
+        nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
+        summary.contact_assemblies     = contact_assemblies;
+        const double inflow            = -boundary_conditions_inflow(summary.flux);
+        summary.contact_assemblies     = contact_assemblies;
+        for (const BoundaryId id : contact_parameters.die_ids)
+          if (std::abs(summary.flux[id]) > 1e-6 * inflow)
+            log << "  flux through die id " << id << ": " << std::setprecision(4) << summary.flux[id] << " ("
+                << 100. * std::abs(summary.flux[id]) / inflow << "% of the inflow): "
+                << (summary.flux[id] < 0 ? "the metal leaves the wall there (separated), see doc/formulation.md" :
+                                           "penetration")
+                << std::endl;
+      }
     if (run_parameters.write_vtu || run_parameters.write_gnuplot)
       write_fields(dof_handler,
                    velocity,
                    material,
                    assembler.get_penalty(),
-                   {},
+                   nodal_fields,
                    run_parameters.output_directory,
                    summary.cycle,
                    run_parameters.write_vtu,
@@ -330,6 +432,18 @@ namespace dieflow
                           dealii::Utilities::int_to_string(summary.cycle, 2) + ".svg");
         dealii::GridOut().write_svg(triangulation, svg);
       }
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::boundary_conditions_inflow(const std::map<BoundaryId, double> &flux) const
+  {
+    double inflow = 0;
+    for (const BoundaryId id : boundary_conditions.velocity_ids)
+      inflow += std::min(flux.at(id), 0.);
+    return inflow;
   }
 
 
@@ -372,7 +486,8 @@ namespace dieflow
 
         CycleSummary cycle_summary;
         cycle_summary.cycle = cycle;
-        start_solves = 0;
+        start_solves       = 0;
+        contact_assemblies = 0;
         if (cycle == 0)
           newtonian_start();
 

@@ -80,9 +80,13 @@ namespace dieflow
     for (unsigned int c = 0; c < summary.cycles.size(); ++c)
       {
         const CycleSummary &s = summary.cycles[c];
-        std::vector<double> residuals;
+        std::vector<double> residuals, normal_changes, tangential_changes;
         for (const auto &record : s.history)
-          residuals.push_back(record.residual);
+          {
+            residuals.push_back(record.residual);
+            normal_changes.push_back(record.state_changes.normal);
+            tangential_changes.push_back(record.state_changes.tangential);
+          }
         out << (c == 0 ? "\n" : ",\n") << "    {\n"
             << "      \"cycle\": " << s.cycle << ", \"cells\": " << s.cells << ", \"dofs\": " << s.dofs
             << ",\n"
@@ -97,12 +101,18 @@ namespace dieflow
             << "      \"contact_nodes\": {\"separated\": " << s.contact_nodes.separated
             << ", \"stick\": " << s.contact_nodes.stick << ", \"slip\": " << s.contact_nodes.slip
             << "},\n"
+            << "      \"contact_checks\": {\"penetration\": " << number(s.contact_penetration)
+            << ", \"tension\": " << number(s.contact_tension) << ", \"friction_excess\": "
+            << number(s.friction_excess) << ", \"stick_slip_rate\": " << number(s.stick_slip_rate)
+            << ", \"separated_reaction\": " << number(s.separated_reaction) << "},\n"
             << "      \"divergence_ratio\": " << number(s.divergence_ratio) << ",\n"
             << "      \"velocity_l2_error\": " << optional_number(s.velocity_l2_error)
             << ", \"velocity_h1_error\": " << optional_number(s.velocity_h1_error) << ",\n"
             << "      \"penalty\": " << number(s.penalty)
             << ", \"mean_viscosity\": " << number(s.mean_viscosity) << ",\n"
             << "      \"residual_history\": " << vector(residuals) << ",\n"
+            << "      \"active_set_changes\": " << vector(normal_changes) << ",\n"
+            << "      \"stick_slip_changes\": " << vector(tangential_changes) << ",\n"
             << "      \"wall_time\": " << number(s.wall_time) << "\n"
             << "    }";
       }

@@ -32,11 +32,12 @@ namespace dieflow
 
     template <int dim>
     void
-    add_to_directions(std::vector<WallDirection<dim>> &directions,
-                      const Tensor<1, dim> &            normal,
-                      const BoundaryId                  id,
-                      const double                      weight,
-                      const double                      cos_corner)
+    add_to_directions(std::vector<WallDirection<dim>> &          directions,
+                      const Tensor<1, dim> &                     normal,
+                      const BoundaryId                           id,
+                      const double                               weight,
+                      const std::array<dealii::Point<dim>, dim> &facet,
+                      const double                               cos_corner)
     {
       for (auto &direction : directions)
         if (direction.normal * normal >= cos_corner)
@@ -47,7 +48,7 @@ namespace dieflow
             direction.weight += weight;
             return;
           }
-      directions.push_back({normal, id, weight});
+      directions.push_back({normal, id, weight, facet});
     }
   } // namespace
 
@@ -62,7 +63,8 @@ namespace dieflow
   {
     const double cos_corner = std::cos(corner_angle_degrees * dealii::numbers::PI / 180.);
     std::map<GlobalDof, WallNode<dim>> nodes; // keyed by the x-velocity dof
-    std::vector<std::tuple<GlobalDof, Tensor<1, dim>, BoundaryId, double>> hanging;
+    std::vector<std::tuple<GlobalDof, Tensor<1, dim>, BoundaryId, double, std::array<dealii::Point<dim>, dim>>>
+      hanging;
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
@@ -73,12 +75,17 @@ namespace dieflow
             // Exact for affine faces: each vertex's basis function integrates
             // to measure / (number of vertices).
             const double weight = face->measure() / face->n_vertices();
+            // For the contact element: a segment in 2D, three vertices of
+            // the facet's plane in 3D.
+            std::array<dealii::Point<dim>, dim> facet;
+            for (unsigned int d = 0; d < dim; ++d)
+              facet[d] = face->vertex(d);
             for (const unsigned int v : face->vertex_indices())
               {
                 const GlobalDof first = face->vertex_dof_index(v, 0);
                 if (hanging_node_constraints.is_constrained(first))
                   {
-                    hanging.emplace_back(first, normal, face->boundary_id(), weight);
+                    hanging.emplace_back(first, normal, face->boundary_id(), weight, facet);
                     continue;
                   }
                 auto &node = nodes[first];
@@ -87,19 +94,20 @@ namespace dieflow
                     for (unsigned int d = 0; d < dim; ++d)
                       node.dofs[d] = face->vertex_dof_index(v, d);
                     node.position = face->vertex(v);
+                    node.vertex   = face->vertex_index(v);
                   }
-                add_to_directions(node.directions, normal, face->boundary_id(), weight, cos_corner);
+                add_to_directions<dim>(node.directions, normal, face->boundary_id(), weight, facet, cos_corner);
               }
           }
 
     // A hanging vertex's share of the boundary integral belongs to the
     // vertices it hangs from (same coefficients as its constraint).
-    for (const auto &[dof, normal, id, weight] : hanging)
+    for (const auto &[dof, normal, id, weight, facet] : hanging)
       for (const auto &[parent, coefficient] : *hanging_node_constraints.get_constraint_entries(dof))
         {
           const auto it = nodes.find(parent);
           if (it != nodes.end())
-            add_to_directions(it->second.directions, normal, id, coefficient * weight, cos_corner);
+            add_to_directions<dim>(it->second.directions, normal, id, coefficient * weight, facet, cos_corner);
         }
 
     std::vector<WallNode<dim>> result;

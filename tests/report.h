@@ -1,14 +1,30 @@
-// One verdict line of a unit test: the claim, then yes or NO.
+// Helpers of the unit tests: a verdict line, and a run of a deck given as text.
 #ifndef dieflow_tests_report_h
 #define dieflow_tests_report_h
 
+#include <dieflow/run.h>
+
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 
+/// One verdict line: the claim, then yes or NO.
 inline void
 report(const std::string &claim, const bool holds)
 {
   std::cout << claim << ": " << (holds ? "yes" : "NO") << std::endl;
+}
+
+/// Runs the deck @p text (written to deck.prm; results in results/, no VTU).
+inline dieflow::RunSummary
+run_deck_text(const std::string &text)
+{
+  std::ofstream("deck.prm") << "set Output directory = results\nset Write VTU = false\n" << text;
+  dieflow::ParameterHandler prm;
+  dieflow::read_deck("deck.prm", prm);
+  std::ostringstream log;
+  return dieflow::run_deck(prm, ".", log);
 }
 
 #endif

@@ -52,6 +52,10 @@ namespace dieflow
                      const bool                        homogeneous,
                      AffineConstraints<double> &       constraints) const;
 
+    /// The prescribed velocities alone (which nodes they hold).
+    void
+    make_prescribed_constraints(const DoFHandler<dim> &dof_handler, AffineConstraints<double> &constraints) const;
+
     /// Ids with v.n = 0 (symmetry and slip walls).
     std::set<BoundaryId>
     wall_ids() const;

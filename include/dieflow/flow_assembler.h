@@ -7,8 +7,11 @@
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
+
+#include <unordered_map>
 
 namespace dieflow
 {
@@ -16,6 +19,14 @@ namespace dieflow
   using dealii::DoFHandler;
   using dealii::SparseMatrix;
   using dealii::Vector;
+
+  /**
+   * Row transformations of nodes' equations, keyed by the node's first
+   * (x-velocity) dof: the node's rows of the flow residual and Jacobian are
+   * replaced by T times them (the friction of a slipping contact node
+   * depends on its normal reaction, see ContactSet).
+   */
+  using RowTransforms = std::unordered_map<dealii::types::global_dof_index, dealii::FullMatrix<double>>;
 
   /// Which Jacobian to assemble.
   enum class Linearization
@@ -108,7 +119,8 @@ namespace dieflow
      * The Jacobian and the right-hand side -R(v) of the update equation,
      * condensed with the homogeneous @p update_constraints, and the raw
      * (unconstrained) residual R(v) whose entries at constrained dofs are
-     * the reaction forces.
+     * the reaction forces; @p transforms (if any) apply to the condensed
+     * system, not to the raw residual.
      */
     void
     assemble_system(const DoFHandler<dim> &           dof_handler,
@@ -117,7 +129,8 @@ namespace dieflow
                     const Linearization               linearization,
                     SparseMatrix<double> &            matrix,
                     Vector<double> &                  rhs,
-                    Vector<double> &                  raw_residual) const;
+                    Vector<double> &                  raw_residual,
+                    const RowTransforms *             transforms = nullptr) const;
 
     /// As assemble_system() without the matrix: rhs = -R(v) condensed, and the raw R(v).
     void
@@ -125,7 +138,8 @@ namespace dieflow
                       const Vector<double> &           velocity,
                       const AffineConstraints<double> &update_constraints,
                       Vector<double> &                 rhs,
-                      Vector<double> &                 raw_residual) const;
+                      Vector<double> &                 raw_residual,
+                      const RowTransforms *            transforms = nullptr) const;
 
     /// Volume average of eta(epsdot(v)) (2x2 Gauss points).
     double
@@ -139,7 +153,8 @@ namespace dieflow
              const Linearization               linearization,
              SparseMatrix<double> *            matrix,
              Vector<double> &                  rhs,
-             Vector<double> &                  raw_residual) const;
+             Vector<double> &                  raw_residual,
+             const RowTransforms *             transforms) const;
 
     unsigned int
     n_dual_points(const DoFHandler<dim> &dof_handler) const;

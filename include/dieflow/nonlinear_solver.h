@@ -18,14 +18,29 @@ namespace dieflow
    * revises it from the current iterate and projects the iterate onto the
    * resulting constraints.
    */
+  /// How many contact directions changed state in an update.
+  struct StateChanges
+  {
+    /// Directions that entered or left contact (the active set).
+    unsigned int normal = 0;
+    /// Stick <-> slip, or a new slip direction.
+    unsigned int tangential = 0;
+
+    unsigned int
+    total() const
+    {
+      return normal + tangential;
+    }
+  };
+
   class NonlinearSystem
   {
   public:
     virtual ~NonlinearSystem() = default;
 
     /// Revises the state from @p v, projects @p v onto the constraints, and
-    /// returns how many nodes changed state.
-    virtual unsigned int
+    /// returns how many contact directions changed state.
+    virtual StateChanges
     update_state(dealii::Vector<double> &v) = 0;
 
     /// Assembles J(v) and -R(v); returns the relative residual (see residual()).
@@ -67,7 +82,7 @@ namespace dieflow
     double        residual;
     double        update;
     double        step;
-    unsigned int  state_changes;
+    StateChanges  state_changes;
   };
 
   struct NonlinearResult

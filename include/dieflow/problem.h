@@ -2,6 +2,7 @@
 #define dieflow_problem_h
 
 #include <dieflow/boundary_conditions.h>
+#include <dieflow/contact.h>
 #include <dieflow/flow_assembler.h>
 #include <dieflow/geometry.h>
 #include <dieflow/linear_solver.h>
@@ -63,7 +64,7 @@ namespace dieflow
     RunSummary
     run();
 
-    unsigned int
+    StateChanges
     update_state(Vector<double> &v) override;
     double
     assemble_system(const Vector<double> &v, const Linearization linearization) override;
@@ -95,6 +96,22 @@ namespace dieflow
     refine_mesh();
     double
     relative_residual(const Vector<double> &minus_residual) const;
+    /// Constraints of the state: boundary conditions and active contact.
+    void
+    make_constraints();
+    /// Flow and contact terms at v: J (if @p matrix) and -R condensed.
+    void
+    assemble(const FlowAssembler<dim> &flow,
+             const Vector<double> &    v,
+             const Linearization       linearization,
+             dealii::SparseMatrix<double> *matrix,
+             Vector<double> &          minus_residual);
+    /// Volume per unit time that enters through the prescribed-velocity parts (<= 0).
+    double
+    boundary_conditions_inflow(const std::map<BoundaryId, double> &flux) const;
+    /// The flow residual at the nodes (reactions), hanging nodes condensed.
+    Vector<double>
+    nodal_flow_residual(const Vector<double> &v);
 
     RunParameters                              run_parameters;
     MeshParameters                             mesh_parameters;
@@ -103,6 +120,12 @@ namespace dieflow
     NonlinearSolver                            nonlinear_solver;
     LinearSolver                               linear_solver;
     RefinementParameters                       refinement;
+    ContactParameters                          contact_parameters;
+    ContactSet<dim>                            contact;
+    /// False until the first solve of a run: the contact states are then
+    /// judged from a velocity that solves something.
+    bool                                       contact_states_valid = false;
+    unsigned int                               contact_assemblies   = 0;
     std::unique_ptr<dealii::FunctionParser<dim>> exact_velocity;
 
     std::ostream &log;
@@ -116,6 +139,7 @@ namespace dieflow
     AffineConstraints<double>  hanging_node_constraints;
     AffineConstraints<double>  constraints;
     AffineConstraints<double>  update_constraints;
+    AffineConstraints<double>  prescribed_constraints;
     std::vector<WallNode<dim>> wall_nodes;
 
     dealii::SparsityPattern      sparsity_pattern;

@@ -36,6 +36,16 @@ namespace dieflow
     std::map<BoundaryId, double> die_normal_force;
     std::map<BoundaryId, double> die_friction_force;
     ContactCounts                contact_nodes;
+    /// Contact inequalities of the result, dimensionless (0 when exact):
+    /// largest v.n > 0 over the largest speed; largest pulling normal force
+    /// over the largest normal force; largest |F_t| - bound over the largest
+    /// bound; largest |v.t| of a sticking node over the largest speed.
+    double contact_penetration = 0;
+    double contact_tension     = 0;
+    double friction_excess     = 0;
+    double stick_slip_rate     = 0;
+    /// Largest normal reaction at a separated node over the largest normal force.
+    double separated_reaction  = 0;
     /// ||div v||_L2 / ||grad v||_L2, div v at the cell centres.
     double                divergence_ratio = 0;
     std::optional<double> velocity_l2_error;

@@ -30,6 +30,9 @@ namespace dieflow
     Tensor<1, dim> normal;
     BoundaryId     id;
     double         weight;
+    /// The vertices of one wall facet with this normal at the node: the
+    /// master segment (facet) of the node's contact element.
+    std::array<dealii::Point<dim>, dim> facet;
   };
 
   /**
@@ -50,6 +53,7 @@ namespace dieflow
   {
     std::array<GlobalDof, dim>        dofs;
     dealii::Point<dim>                position;
+    unsigned int                      vertex;
     std::vector<WallDirection<dim>>   directions;
   };
 

@@ -75,6 +75,11 @@ namespace
         cycle["separated"]          = s.contact_nodes.separated;
         cycle["stick"]              = s.contact_nodes.stick;
         cycle["slip"]               = s.contact_nodes.slip;
+        cycle["contact_penetration"] = s.contact_penetration;
+        cycle["contact_tension"]     = s.contact_tension;
+        cycle["friction_excess"]     = s.friction_excess;
+        cycle["stick_slip_rate"]     = s.stick_slip_rate;
+        cycle["separated_reaction"]  = s.separated_reaction;
         cycle["l2_error"]           = s.velocity_l2_error.value_or(nan);
         cycle["h1_error"]           = s.velocity_h1_error.value_or(nan);
         cycle["newton_order"]       = newton_order(s);

@@ -1,0 +1,266 @@
+#ifndef dieflow_contact_h
+#define dieflow_contact_h
+
+#include <dieflow/contact_element.h>
+#include <dieflow/flow_assembler.h>
+#include <dieflow/nonlinear_solver.h>
+#include <dieflow/parameters.h>
+#include <dieflow/summary.h>
+#include <dieflow/wall_nodes.h>
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <map>
+#include <ostream>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace dieflow
+{
+  /// The deck's "Contact" subsection.
+  struct ContactParameters
+  {
+    std::set<BoundaryId>         die_ids;
+    std::string                  normal_enforcement = "active set";
+    FrictionLaw::Kind            law                = FrictionLaw::Kind::coulomb;
+    std::map<BoundaryId, double> friction_coefficient;
+    std::map<BoundaryId, double> tresca_factor;
+    double                       shear_flow_stress         = 0;
+    double                       normal_penalty_factor     = 1;
+    double                       tangential_penalty_factor = 100;
+    double                       regularisation_velocity   = 1;
+    double                       active_set_constant       = 1;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /// What the contact adds to one node's equations in an assembly.
+  template <int dim>
+  struct ContactContribution
+  {
+    std::array<GlobalDof, dim> dofs;
+    /// Row transformation T = I + b n^T of the node's flow rows: the
+    /// dependence of the friction force on the normal reaction n.R_flow.
+    dealii::FullMatrix<double> row_transform;
+    bool                       has_row_transform = false;
+    /// Residual and tangent of the contact element (the slave's block).
+    dealii::Vector<double>     residual;
+    dealii::FullMatrix<double> tangent;
+  };
+
+  /// Node-wise results for the die-wall profiles and the checks.
+  template <int dim>
+  struct ContactNodeResult
+  {
+    dealii::Point<dim> position;
+    BoundaryId         id;
+    Tensor<1, dim>     normal;
+    double             weight;
+    ContactStatus      status;
+    /// F_n (<= 0 pressing) and F_t, nodal forces; v.n and v.t.
+    double normal_force, friction_force, normal_rate, slip_rate;
+    /// The normal reaction where separated (must vanish at equilibrium).
+    double free_reaction;
+    double friction_bound;
+  };
+
+  /**
+   * Unilateral contact with friction on the die ids, in velocity form on a
+   * rigid die whose surface is the mesh boundary (eq. (6)):
+   *   v.n <= 0, F_n <= 0, F_n v.n = 0;  |F_t| <= mu |F_n|, stick or slip.
+   *
+   * Normal direction, "active set" (deal.II step-41/42, a primal-dual active
+   * set / semismooth Newton method): each wall direction k of a contact node
+   * (two at a corner) is active when p_k + c (v.n_k) > 0, with the contact
+   * pressure p_k = -F_n,k / w_k from the flow residual R at the node (the
+   * reaction, decomposed on the active normals) over the lumped boundary
+   * weight, and c = (active set constant) x eta_m / h; active directions
+   * are the constraints v.n_k = 0 of AffineConstraints. Converged when no
+   * direction changes and the residual is small. "penalty": the paper's
+   * perturbed Lagrangian with F_n = -omega_n max(v.n, 0), eq. (20).
+   *
+   * Corners: a node where two wall directions meet (the die entry C, the
+   * die exit D) carries one unilateral condition per direction; with both
+   * active the 2D node is at rest (counted as stick), with one active it
+   * slides along that wall and may leave the other. A node on a
+   * prescribed-velocity part is not a contact node: the prescribed velocity
+   * wins and its reaction counts for that part.
+   *
+   * Tangential direction: one ContactElement per active direction,
+   * slave = the node, master = a die facet with that normal. Coulomb slip
+   * makes the friction force depend on the normal reaction n.R_flow(v); the
+   * assembler applies the node's row transformation T = I + b n^T
+   * (b = dR_c/dF_n) to the node's flow rows, which is the exact
+   * non-symmetric linearisation of that dependence.
+   *
+   * States are decided in update() and frozen while an iteration assembles
+   * and searches its line. A state signature that repeats (cycling) freezes
+   * the nodes that keep changing at their pressing, slipping state, and the
+   * log says so.
+   */
+  template <int dim>
+  class ContactSet
+  {
+  public:
+    void
+    initialize(const ContactParameters &parameters);
+
+    bool
+    empty() const
+    {
+      return parameters.die_ids.empty();
+    }
+    bool
+    uses_penalty() const
+    {
+      return parameters.normal_enforcement == "penalty";
+    }
+
+    /**
+     * The contact nodes of the current mesh: wall nodes on the die ids
+     * without components constrained in @p prescribed (the prescribed
+     * velocities). Every
+     * direction starts active and slipping (the frictionless slip-wall
+     * problem), unless @p keep_state maps it from the previous mesh by
+     * position.
+     */
+    void
+    setup(const std::vector<WallNode<dim>> &die_nodes,
+          const AffineConstraints<double> & prescribed,
+          const bool                        keep_state);
+
+    /// eta_m, the viscosity scale of c, and lambda, the incompressibility
+    /// penalty that omega_n and omega_t are multiples of.
+    void
+    set_scales(const double eta, const double lambda)
+    {
+      viscosity_scale  = eta;
+      penalty_scale    = lambda;
+    }
+
+    /**
+     * Revises the states from the velocity @p v and the flow residual
+     * @p flow_residual (unconstrained, hanging nodes condensed: the
+     * reactions at the contact nodes). Returns how many directions changed
+     * their normal and their tangential state.
+     */
+    StateChanges
+    update(const dealii::Vector<double> &v, const dealii::Vector<double> &flow_residual, std::ostream &log);
+
+    /// v.n_k = 0 for every active direction (active set only).
+    void
+    add_constraints(AffineConstraints<double> &constraints) const;
+
+    /// The contributions of the contact elements at @p v in the frozen states.
+    std::vector<ContactContribution<dim>>
+    contributions(const dealii::Vector<double> &v) const;
+
+    /// Node-wise forces and states of the converged @p v (call update() first).
+    std::vector<ContactNodeResult<dim>>
+    results(const dealii::Vector<double> &v) const;
+
+    /// Forces per id, node counts and the inequality checks (velocities
+    /// relative to @p speed_scale), into @p summary.
+    void
+    summarise(const std::vector<ContactNodeResult<dim>> &results,
+              const double                               speed_scale,
+              CycleSummary &                             summary) const;
+
+    /// One gnuplot-ready profile per die id: arc length, x, y, pressure,
+    /// friction stress, normal and slip velocity, status.
+    void
+    write_profiles(const std::vector<ContactNodeResult<dim>> &results, const std::string &directory) const;
+
+    /// Status per vertex of @p dof_handler's triangulation (0 separated,
+    /// 1 stick, 2 slip; -1 elsewhere) for the VTU.
+    dealii::Vector<double>
+    vertex_status(const DoFHandler<dim> &dof_handler) const;
+
+    /// Friction coefficient of a die id (0 if none given).
+    double
+    friction_coefficient(const BoundaryId id) const;
+
+    const ContactParameters &
+    get_parameters() const
+    {
+      return parameters;
+    }
+
+  private:
+    struct Direction
+    {
+      WallDirection<dim>  wall;
+      ContactElement<dim> element;
+      bool                active;
+      ContactStatus       status;
+      double              sign;
+      double              normal_force;
+      /// n.R_flow at a separated direction: zero at equilibrium.
+      double              free_reaction;
+      bool                frozen;
+    };
+    struct Node
+    {
+      std::array<GlobalDof, dim> dofs;
+      dealii::Point<dim>         position;
+      unsigned int               vertex;
+      std::vector<Direction>     directions;
+      /// Normals of the node's slip walls and symmetry lines: always held.
+      std::vector<Tensor<1, dim>> fixed_normals;
+      unsigned int               n_active() const;
+      /// Active contact directions and fixed walls: dim or more is at rest.
+      unsigned int
+      n_held() const
+      {
+        return n_active() + fixed_normals.size();
+      }
+    };
+
+    FrictionLaw
+    law_of(const Direction &direction) const;
+    /// c of the semismooth rules (force per velocity): (active set
+    /// constant) x eta_m x w / h.
+    double
+    contact_constant(const Direction &direction) const;
+    /// omega per node: factor x lambda x w / h, h = w^(1/(dim-1)).
+    double
+    penalty_of(const double factor, const double weight) const;
+    typename ContactElement<dim>::Vector
+    element_velocity(const Node &node, const dealii::Vector<double> &v) const;
+    void
+    decompose_reaction(const Node &node, const dealii::Vector<double> &flow_residual, std::vector<double> &forces) const;
+
+    ContactParameters          parameters;
+    std::vector<Node>          nodes;
+    double                     viscosity_scale = 1;
+    double                     penalty_scale   = 1;
+    std::vector<std::size_t>   recent_signatures;
+  };
+
+  /**
+   * The linearised system of flow and contact at @p v: the flow terms with
+   * the row transformations of the slipping contact nodes, then the contact
+   * elements' own residuals and tangents (the slave's block: the die is
+   * rigid), condensed with @p update_constraints. Without @p matrix, the
+   * residual only. Returns 1 if contact terms were assembled, else 0.
+   */
+  template <int dim>
+  unsigned int
+  assemble_with_contact(const FlowAssembler<dim> &        flow,
+                        const ContactSet<dim> &           contact,
+                        const DoFHandler<dim> &           dof_handler,
+                        const dealii::Vector<double> &    v,
+                        const AffineConstraints<double> & update_constraints,
+                        const Linearization               linearization,
+                        dealii::SparseMatrix<double> *    matrix,
+                        dealii::Vector<double> &          minus_residual,
+                        dealii::Vector<double> &          raw_residual);
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,702 @@
+#include <dieflow/contact.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+
+namespace dieflow
+{
+  void
+  ContactParameters::declare_parameters(ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Die ids",
+                      "3, 4",
+                      Anything(),
+                      "Boundary ids of the rigid die in unilateral contact with "
+                      "friction: v.n <= 0, F_n <= 0, F_n v.n = 0, Coulomb stick or "
+                      "slip. Empty: no contact (the friction entries are then "
+                      "ignored).");
+    prm.declare_entry("Normal enforcement",
+                      "active set",
+                      Selection("active set|penalty"),
+                      "active set: v.n = 0 exactly where the die presses (a "
+                      "primal-dual active set on the nodal contact pressure, as "
+                      "deal.II step-41/42). penalty: the paper's perturbed "
+                      "Lagrangian, F_n = -omega_n max(v.n, 0) (a small "
+                      "penetration rate, which falls as 1/omega_n).");
+    prm.declare_entry("Friction law",
+                      "Coulomb",
+                      Selection("Coulomb|Tresca|regularised Coulomb"),
+                      "Coulomb: |F_t| <= mu |F_n| (stick below, slip at the bound). "
+                      "Tresca: |tau| <= m k. regularised Coulomb: tau = -mu |sigma_n| "
+                      "(2/pi) atan(v_t / v0), smooth, without stick.");
+    prm.declare_entry("Friction coefficients",
+                      "3: 0.001, 4: 0.1",
+                      Anything(),
+                      "Coulomb coefficient mu per die id, as 'id: mu, id: mu' "
+                      "(die2d: '3: 0.001, 4: 0.1'); ids not listed are frictionless.");
+    prm.declare_entry("Tresca friction factors",
+                      "",
+                      Anything(),
+                      "Tresca factor m in [0, 1] per die id, 'id: m, ...'; the wall "
+                      "shear stress is at most m k.");
+    prm.declare_entry("Shear flow stress",
+                      "0",
+                      Double(0),
+                      "k (MPa) of the Tresca law: the shear flow stress of the "
+                      "metal, sigma_0 / sqrt(3).");
+    prm.declare_entry("Normal penalty factor",
+                      "1",
+                      Double(0),
+                      "omega_n = factor x lambda (per unit boundary weight in 2D), "
+                      "lambda the incompressibility penalty, for Normal "
+                      "enforcement = penalty: the die pushes back with "
+                      "F_n = -omega_n v.n where the metal penetrates at v.n > 0.");
+    prm.declare_entry("Tangential penalty factor",
+                      "100",
+                      Double(0),
+                      "omega_t = factor x lambda: the stick law F_t = -omega_t v_t "
+                      "of the paper (eq. (16)). Sticking nodes slip at |F_t| / "
+                      "omega_t, which the incompressibility penalty turns into a "
+                      "pressure disturbance of about 1/factor of the wall shear; "
+                      "hence a multiple of lambda.");
+    prm.declare_entry("Regularisation velocity",
+                      "1",
+                      Double(0),
+                      "v0 (mm/s) of the regularised Coulomb law.");
+    prm.declare_entry("Active set constant",
+                      "1",
+                      Double(0),
+                      "c = constant x eta_m / h in the active-set rule p + c v.n > 0.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ContactParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    die_ids            = parse_id_list("Contact/Die ids", prm.get("Die ids"));
+    normal_enforcement = prm.get("Normal enforcement");
+    const std::string law_name = prm.get("Friction law");
+    law = (law_name == "Coulomb") ? FrictionLaw::Kind::coulomb :
+          (law_name == "Tresca")  ? FrictionLaw::Kind::tresca :
+                                    FrictionLaw::Kind::regularised_coulomb;
+    friction_coefficient.clear();
+    for (const auto &[id, mu] : parse_id_value_map("Contact/Friction coefficients", prm.get("Friction coefficients")))
+      {
+        require(mu >= 0,
+                "Contact/Friction coefficients",
+                "mu of id " + std::to_string(id) + " must not be negative");
+        require(die_ids.empty() || die_ids.count(id),
+                "Contact/Friction coefficients",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        friction_coefficient[id] = mu;
+      }
+    tresca_factor.clear();
+    for (const auto &[id, m] : parse_id_value_map("Contact/Tresca friction factors", prm.get("Tresca friction factors")))
+      {
+        require(m >= 0 && m <= 1,
+                "Contact/Tresca friction factors",
+                "m of id " + std::to_string(id) + " must lie in [0, 1]");
+        require(die_ids.empty() || die_ids.count(id),
+                "Contact/Tresca friction factors",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        tresca_factor[id] = m;
+      }
+    shear_flow_stress         = prm.get_double("Shear flow stress");
+    normal_penalty_factor     = prm.get_double("Normal penalty factor");
+    tangential_penalty_factor = prm.get_double("Tangential penalty factor");
+    regularisation_velocity   = prm.get_double("Regularisation velocity");
+    active_set_constant       = prm.get_double("Active set constant");
+    require(!(normal_enforcement == "penalty" && normal_penalty_factor <= 0 && !die_ids.empty()),
+            "Contact/Normal penalty factor",
+            "must be positive for Normal enforcement = penalty");
+    require(!(law == FrictionLaw::Kind::regularised_coulomb && regularisation_velocity <= 0),
+            "Contact/Regularisation velocity",
+            "must be positive for the regularised Coulomb law");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  ContactSet<dim>::Node::n_active() const
+  {
+    return std::count_if(directions.begin(), directions.end(), [](const Direction &d) { return d.active; });
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::initialize(const ContactParameters &p)
+  {
+    parameters = p;
+  }
+
+
+
+  template <int dim>
+  double
+  ContactSet<dim>::friction_coefficient(const BoundaryId id) const
+  {
+    const auto it = parameters.friction_coefficient.find(id);
+    return it == parameters.friction_coefficient.end() ? 0. : it->second;
+  }
+
+
+
+  template <int dim>
+  double
+  ContactSet<dim>::penalty_of(const double factor, const double weight) const
+  {
+    const double h = std::pow(weight, 1. / (dim - 1));
+    return factor * penalty_scale * weight / h;
+  }
+
+
+
+  template <int dim>
+  double
+  ContactSet<dim>::contact_constant(const Direction &direction) const
+  {
+    const double h = std::pow(direction.wall.weight, 1. / (dim - 1));
+    return parameters.active_set_constant * viscosity_scale * direction.wall.weight / h;
+  }
+
+
+
+  template <int dim>
+  FrictionLaw
+  ContactSet<dim>::law_of(const Direction &direction) const
+  {
+    FrictionLaw law;
+    law.kind                    = parameters.law;
+    law.mu                      = friction_coefficient(direction.wall.id);
+    const auto m                = parameters.tresca_factor.find(direction.wall.id);
+    law.shear_bound             = (m == parameters.tresca_factor.end() ? 0. : m->second) *
+                      parameters.shear_flow_stress * direction.wall.weight;
+    law.tangential_penalty      = penalty_of(parameters.tangential_penalty_factor, direction.wall.weight);
+    law.regularisation_velocity = parameters.regularisation_velocity;
+    return law;
+  }
+
+
+
+  template <int dim>
+  typename ContactElement<dim>::Vector
+  ContactSet<dim>::element_velocity(const Node &node, const dealii::Vector<double> &v) const
+  {
+    // The die is rigid and fixed: its nodes' velocities are zero.
+    typename ContactElement<dim>::Vector u = ContactElement<dim>::Vector::Zero();
+    for (unsigned int d = 0; d < dim; ++d)
+      u[d] = v[node.dofs[d]];
+    return u;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::setup(const std::vector<WallNode<dim>> &die_nodes,
+                         const AffineConstraints<double> & prescribed,
+                         const bool                        keep_state)
+  {
+    // States of the previous mesh by position, for the nodes that remain.
+    std::map<std::pair<long, long>, std::vector<Direction>> previous;
+    const auto key = [](const dealii::Point<dim> &p) {
+      return std::make_pair(std::lround(p[0] * 1e9), std::lround(p[1] * 1e9));
+    };
+    if (keep_state)
+      for (const auto &node : nodes)
+        previous[key(node.position)] = node.directions;
+
+    nodes.clear();
+    recent_signatures.clear();
+    for (const auto &wall_node : die_nodes)
+      {
+        bool is_prescribed = false;
+        for (const auto dof : wall_node.dofs)
+          is_prescribed |= prescribed.is_constrained(dof);
+        if (is_prescribed)
+          continue;
+        Node node;
+        node.dofs     = wall_node.dofs;
+        node.position = wall_node.position;
+        node.vertex   = wall_node.vertex;
+        for (const auto &wall : wall_node.directions)
+          if (parameters.die_ids.count(wall.id))
+            node.directions.push_back(
+              {wall, ContactElement<dim>(wall_node.position, wall.facet, wall.normal), true, ContactStatus::slip, 1., 0., 0., false});
+          else
+            node.fixed_normals.push_back(wall.normal);
+        const auto old = previous.find(key(node.position));
+        if (old != previous.end() && old->second.size() == node.directions.size())
+          for (unsigned int k = 0; k < node.directions.size(); ++k)
+            {
+              node.directions[k].active = old->second[k].active;
+              node.directions[k].status = old->second[k].status;
+              node.directions[k].sign   = old->second[k].sign;
+            }
+        if (!node.directions.empty())
+          nodes.push_back(node);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::decompose_reaction(const Node &                  node,
+                                      const dealii::Vector<double> &flow_residual,
+                                      std::vector<double> &         forces) const
+  {
+    // The reaction R at the node on the active normals and those of the
+    // node's fixed walls: R = sum_k F_k n_k + a tangential part (the
+    // friction); least squares through the Gram matrix.
+    forces.assign(node.directions.size(), 0.);
+    std::vector<Tensor<1, dim>> normals;
+    std::vector<int>            direction_of;
+    for (unsigned int k = 0; k < node.directions.size(); ++k)
+      if (node.directions[k].active)
+        {
+          normals.push_back(node.directions[k].wall.normal);
+          direction_of.push_back(k);
+        }
+    if (normals.empty())
+      return;
+    for (const auto &n : node.fixed_normals)
+      {
+        normals.push_back(n);
+        direction_of.push_back(-1);
+      }
+    Tensor<1, dim> reaction;
+    for (unsigned int d = 0; d < dim; ++d)
+      reaction[d] = flow_residual[node.dofs[d]];
+    const unsigned int         m = normals.size();
+    dealii::FullMatrix<double> G(m, m);
+    dealii::Vector<double>     rhs(m), a(m);
+    for (unsigned int i = 0; i < m; ++i)
+      {
+        rhs[i] = normals[i] * reaction;
+        for (unsigned int j = 0; j < m; ++j)
+          G(i, j) = normals[i] * normals[j];
+      }
+    G.gauss_jordan();
+    G.vmult(a, rhs);
+    for (unsigned int i = 0; i < m; ++i)
+      if (direction_of[i] >= 0)
+        forces[direction_of[i]] = a[i];
+  }
+
+
+
+  template <int dim>
+  StateChanges
+  ContactSet<dim>::update(const dealii::Vector<double> &v,
+                          const dealii::Vector<double> &flow_residual,
+                          std::ostream &                log)
+  {
+    StateChanges        changes;
+    std::vector<double> forces;
+    std::vector<std::pair<unsigned int, unsigned int>> changed; // (node, direction)
+    const bool          penalty = uses_penalty();
+
+    for (unsigned int i = 0; i < nodes.size(); ++i)
+      {
+        Node &node = nodes[i];
+        if (!penalty)
+          decompose_reaction(node, flow_residual, forces);
+        const auto u    = element_velocity(node, v);
+        const bool held = node.n_held() > 0;
+
+        // Normal direction.
+        for (unsigned int k = 0; k < node.directions.size(); ++k)
+          {
+            Direction &  dir    = node.directions[k];
+            const double g_n    = dir.element.normal_rate(u);
+            bool         active = dir.active;
+            dir.free_reaction = 0;
+            if (penalty)
+              {
+                active           = g_n > 0;
+                dir.normal_force = active ? -penalty_of(parameters.normal_penalty_factor, dir.wall.weight) * g_n : 0.;
+              }
+            else
+              {
+                // p + c g_n > 0 with p = -F_n / w: in force units F_n - c w g_n < 0.
+                active           = forces[k] - contact_constant(dir) * g_n < 0;
+                dir.normal_force = dir.active ? forces[k] : 0.;
+                // A node no wall holds is free: its reaction must vanish.
+                if (!held)
+                  for (unsigned int d = 0; d < dim; ++d)
+                    dir.free_reaction += dir.wall.normal[d] * flow_residual[node.dofs[d]];
+              }
+            if (dir.frozen)
+              continue;
+            if (active != dir.active)
+              {
+                ++changes.normal;
+                changed.emplace_back(i, k);
+              }
+            dir.active = active;
+          }
+
+        // Tangential direction: a node held by one wall slides along it.
+        const bool sliding = penalty || node.n_held() == 1;
+        for (unsigned int k = 0; k < node.directions.size(); ++k)
+          {
+            Direction &dir   = node.directions[k];
+            auto       state = std::make_pair(ContactStatus::separated, dir.sign);
+            if (dir.active && sliding)
+              {
+                const FrictionLaw law       = law_of(dir);
+                const double      slip_rate = dir.element.tangential_rate(u);
+                const double      current =
+                  ContactElement<dim>::friction(law, dir.status, dir.sign, slip_rate, dir.normal_force).force;
+                state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
+              }
+            else if (dir.active)
+              state = std::make_pair(ContactStatus::stick, dir.sign);
+            if (dir.frozen)
+              continue;
+            if (state.first != dir.status || (state.first == ContactStatus::slip && state.second != dir.sign))
+              {
+                ++changes.tangential;
+                changed.emplace_back(i, k);
+
+              }
+            dir.status = state.first;
+            dir.sign   = state.second;
+          }
+      }
+
+    // Cycling: a state seen a few iterations ago returns. Freeze the nodes
+    // that keep changing in their pressing, slipping state.
+    std::size_t signature = nodes.size();
+    for (const auto &node : nodes)
+      for (const auto &dir : node.directions)
+        signature = signature * 1000003u ^ (dir.active * 7 + static_cast<int>(dir.status) * 2 + (dir.sign > 0));
+    if (changes.total() > 0 &&
+        std::find(recent_signatures.begin(), recent_signatures.end(), signature) != recent_signatures.end())
+      {
+        std::set<unsigned int> frozen_nodes;
+        for (const auto &[i, k] : changed)
+          {
+            Direction &dir = nodes[i].directions[k];
+            dir.active     = true;
+            dir.status     = ContactStatus::slip;
+            dir.sign       = dir.element.tangential_rate(element_velocity(nodes[i], v)) >= 0 ? 1. : -1.;
+            dir.frozen     = true;
+            frozen_nodes.insert(i);
+          }
+        log << "    contact states cycle: " << frozen_nodes.size()
+            << " node(s) frozen in contact and slipping" << std::endl;
+      }
+    recent_signatures.push_back(signature);
+    if (recent_signatures.size() > 12)
+      recent_signatures.erase(recent_signatures.begin());
+    return changes;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::add_constraints(AffineConstraints<double> &constraints) const
+  {
+    if (uses_penalty())
+      return;
+    for (const auto &node : nodes)
+      {
+        std::vector<Tensor<1, dim>> normals;
+        for (const auto &dir : node.directions)
+          if (dir.active)
+            normals.push_back(dir.wall.normal);
+        if (!normals.empty())
+          constrain_normal_components<dim>(node.dofs, normals, std::vector<double>(normals.size(), 0.), constraints);
+      }
+  }
+
+
+
+  template <int dim>
+  std::vector<ContactContribution<dim>>
+  ContactSet<dim>::contributions(const dealii::Vector<double> &v) const
+  {
+    std::vector<ContactContribution<dim>> result;
+    const bool                            penalty = uses_penalty();
+    for (const auto &node : nodes)
+      {
+        if (!penalty && node.n_held() != 1)
+          continue; // separated, or held by two walls: no friction work
+        const auto u = element_velocity(node, v);
+        for (const auto &dir : node.directions)
+          {
+            if (!dir.active)
+              continue;
+            const FrictionLaw law = law_of(dir);
+            if (!penalty && law.frictionless())
+              continue;
+            const auto r = penalty ?
+                             dir.element.penalty(u,
+                                                 penalty_of(parameters.normal_penalty_factor, dir.wall.weight),
+                                                 true,
+                                                 law,
+                                                 dir.status,
+                                                 dir.sign) :
+                             dir.element.friction_part(u, dir.normal_force, law, dir.status, dir.sign);
+            ContactContribution<dim> c;
+            c.dofs = node.dofs;
+            c.residual.reinit(dim);
+            c.tangent.reinit(dim, dim);
+            for (unsigned int a = 0; a < dim; ++a)
+              {
+                c.residual[a] = r.residual[a];
+                for (unsigned int b = 0; b < dim; ++b)
+                  c.tangent(a, b) = r.tangent(a, b);
+              }
+            if (!penalty)
+              {
+                // R_total = T R_flow + (R_c - b F_n), T = I + b n^T: exact
+                // when F_t is linear in F_n (Coulomb slip), and R_c itself
+                // when it does not depend on F_n (stick, Tresca).
+                double b_norm = 0;
+                for (unsigned int a = 0; a < dim; ++a)
+                  b_norm += std::abs(r.d_residual_d_normal_force[a]);
+                if (b_norm > 0)
+                  {
+                    c.has_row_transform = true;
+                    c.row_transform.reinit(dim, dim);
+                    for (unsigned int a = 0; a < dim; ++a)
+                      {
+                        c.residual[a] -= r.d_residual_d_normal_force[a] * dir.normal_force;
+                        for (unsigned int b = 0; b < dim; ++b)
+                          c.row_transform(a, b) =
+                            (a == b ? 1. : 0.) + r.d_residual_d_normal_force[a] * dir.wall.normal[b];
+                      }
+                  }
+              }
+            result.push_back(std::move(c));
+          }
+      }
+    return result;
+  }
+
+
+
+  template <int dim>
+  std::vector<ContactNodeResult<dim>>
+  ContactSet<dim>::results(const dealii::Vector<double> &v) const
+  {
+    std::vector<ContactNodeResult<dim>> result;
+    for (const auto &node : nodes)
+      {
+        const auto u = element_velocity(node, v);
+        for (const auto &dir : node.directions)
+          {
+            ContactNodeResult<dim> r;
+            r.position       = node.position;
+            r.id             = dir.wall.id;
+            r.normal         = dir.wall.normal;
+            r.weight         = dir.wall.weight;
+            r.status         = dir.active ? dir.status : ContactStatus::separated;
+            r.normal_rate    = dir.element.normal_rate(u);
+            r.slip_rate      = dir.element.tangential_rate(u);
+            r.normal_force   = dir.active ? dir.normal_force : 0.;
+            r.free_reaction  = dir.active ? 0. : dir.free_reaction;
+            const auto law   = law_of(dir);
+            r.friction_bound = law.kind == FrictionLaw::Kind::tresca ? law.shear_bound : law.mu * std::abs(r.normal_force);
+            r.friction_force = (dir.active && (uses_penalty() || node.n_held() == 1)) ?
+                                 ContactElement<dim>::friction(law, dir.status, dir.sign, r.slip_rate, r.normal_force).force :
+                                 0.;
+            result.push_back(r);
+          }
+      }
+    return result;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::summarise(const std::vector<ContactNodeResult<dim>> &results,
+                             const double                               speed_scale,
+                             CycleSummary &                             summary) const
+  {
+    for (const auto id : parameters.die_ids)
+      summary.die_normal_force[id] = summary.die_friction_force[id] = 0;
+    for (const auto &r : results)
+      {
+        summary.die_normal_force[r.id] += std::abs(r.normal_force);
+        summary.die_friction_force[r.id] += std::abs(r.friction_force);
+      }
+    double largest_force = 0, largest_bound = 0;
+    for (const auto &r : results)
+      {
+        largest_force = std::max(largest_force, std::abs(r.normal_force));
+        largest_bound = std::max(largest_bound, r.friction_bound);
+      }
+    summary.contact_penetration = summary.contact_tension = summary.friction_excess = summary.stick_slip_rate = 0;
+    summary.separated_reaction = 0;
+    for (const auto &r : results)
+      {
+        summary.contact_penetration = std::max(summary.contact_penetration, r.normal_rate);
+        summary.separated_reaction  = std::max(summary.separated_reaction, std::abs(r.free_reaction));
+        if (r.status == ContactStatus::separated)
+          continue;
+        summary.contact_tension = std::max(summary.contact_tension, r.normal_force);
+        summary.friction_excess = std::max(summary.friction_excess, std::abs(r.friction_force) - r.friction_bound);
+        if (r.status == ContactStatus::stick)
+          summary.stick_slip_rate = std::max(summary.stick_slip_rate, std::abs(r.slip_rate));
+      }
+    summary.contact_penetration /= std::max(speed_scale, 1e-300);
+    summary.stick_slip_rate /= std::max(speed_scale, 1e-300);
+    summary.contact_tension /= std::max(largest_force, 1e-300);
+    summary.friction_excess /= std::max(largest_bound, 1e-300);
+    summary.separated_reaction /= std::max(largest_force, 1e-300);
+
+    // A node is separated when no wall holds it, stick when held at rest
+    // (two walls, or a sticking one), slip otherwise.
+    summary.contact_nodes = ContactCounts();
+    for (const auto &node : nodes)
+      {
+        if (node.n_active() == 0)
+          ++summary.contact_nodes.separated;
+        else if (node.n_held() >= dim && !uses_penalty())
+          ++summary.contact_nodes.stick;
+        else
+          {
+            bool slipping = false;
+            for (const auto &dir : node.directions)
+              slipping |= dir.active && dir.status == ContactStatus::slip;
+            ++(slipping ? summary.contact_nodes.slip : summary.contact_nodes.stick);
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::write_profiles(const std::vector<ContactNodeResult<dim>> &results,
+                                  const std::string &                        directory) const
+  {
+    for (const auto id : parameters.die_ids)
+      {
+        std::vector<const ContactNodeResult<dim> *> points;
+        for (const auto &r : results)
+          if (r.id == id)
+            points.push_back(&r);
+        if (points.empty())
+          continue;
+        // Order along the wall: start at the point farthest from the
+        // centroid (an end of the wall), then always the nearest next point.
+        dealii::Point<dim> centroid;
+        for (const auto *p : points)
+          centroid += p->position / static_cast<double>(points.size());
+        std::vector<const ContactNodeResult<dim> *> chain;
+        auto start = std::max_element(points.begin(), points.end(), [&](auto a, auto b) {
+          return a->position.distance(centroid) < b->position.distance(centroid);
+        });
+        chain.push_back(*start);
+        points.erase(start);
+        while (!points.empty())
+          {
+            auto next = std::min_element(points.begin(), points.end(), [&](auto a, auto b) {
+              return a->position.distance(chain.back()->position) < b->position.distance(chain.back()->position);
+            });
+            chain.push_back(*next);
+            points.erase(next);
+          }
+
+        std::ofstream out(directory + "/die-profile-" + std::to_string(id) + ".dat");
+        out << "# die wall id " << id << ", ordered along the wall; forces per node over its boundary weight\n"
+            << "# s(mm) x(mm) y(mm) contact_pressure(MPa) friction_stress(MPa) normal_velocity(mm/s) "
+               "slip_velocity(mm/s) status(0 separated, 1 stick, 2 slip)\n";
+        double s = 0;
+        for (unsigned int i = 0; i < chain.size(); ++i)
+          {
+            if (i > 0)
+              s += chain[i]->position.distance(chain[i - 1]->position);
+            const auto &r = *chain[i];
+            out << std::setprecision(8) << s << ' ' << r.position[0] << ' ' << r.position[1] << ' '
+                << -r.normal_force / r.weight << ' ' << r.friction_force / r.weight << ' ' << r.normal_rate
+                << ' ' << r.slip_rate << ' ' << static_cast<int>(r.status) << '\n';
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  dealii::Vector<double>
+  ContactSet<dim>::vertex_status(const DoFHandler<dim> &dof_handler) const
+  {
+    dealii::Vector<double> status(dof_handler.get_triangulation().n_vertices());
+    status = -1;
+    for (const auto &node : nodes)
+      {
+        int s = static_cast<int>(ContactStatus::separated);
+        for (const auto &dir : node.directions)
+          if (dir.active)
+            s = std::max(s, static_cast<int>(node.n_held() >= dim && !uses_penalty() ? ContactStatus::stick : dir.status));
+        status[node.vertex] = s;
+      }
+    return status;
+  }
+
+  template <int dim>
+  unsigned int
+  assemble_with_contact(const FlowAssembler<dim> &        flow,
+                        const ContactSet<dim> &           contact,
+                        const DoFHandler<dim> &           dof_handler,
+                        const dealii::Vector<double> &    v,
+                        const AffineConstraints<double> & update_constraints,
+                        const Linearization               linearization,
+                        dealii::SparseMatrix<double> *    matrix,
+                        dealii::Vector<double> &          minus_residual,
+                        dealii::Vector<double> &          raw_residual)
+  {
+    std::vector<ContactContribution<dim>> contributions;
+    RowTransforms                         transforms;
+    if (!contact.empty())
+      {
+        contributions = contact.contributions(v);
+        for (const auto &c : contributions)
+          if (c.has_row_transform)
+            transforms.emplace(c.dofs[0], c.row_transform);
+      }
+    if (matrix != nullptr)
+      flow.assemble_system(dof_handler, v, update_constraints, linearization, *matrix, minus_residual, raw_residual, &transforms);
+    else
+      flow.assemble_residual(dof_handler, v, update_constraints, minus_residual, raw_residual, &transforms);
+
+    std::vector<GlobalDof> dofs(dim);
+    for (auto &c : contributions)
+      {
+        std::copy(c.dofs.begin(), c.dofs.end(), dofs.begin());
+        c.residual *= -1.;
+        if (matrix != nullptr)
+          update_constraints.distribute_local_to_global(c.tangent, c.residual, dofs, *matrix, minus_residual);
+        else
+          update_constraints.distribute_local_to_global(c.residual, dofs, minus_residual);
+      }
+    return contact.empty() ? 0 : 1;
+  }
+
+  template class ContactSet<2>;
+  template unsigned int
+  assemble_with_contact<2>(const FlowAssembler<2> &, const ContactSet<2> &, const DoFHandler<2> &,
+                           const dealii::Vector<double> &, const AffineConstraints<double> &, const Linearization,
+                           dealii::SparseMatrix<double> *, dealii::Vector<double> &, dealii::Vector<double> &);
+} // namespace dieflow

@@ -1,0 +1,146 @@
+// The assembled Newton system of flow and contact against finite
+// differences of the assembled residual, on die2d (4 cells across) with a
+// Norton-Hoff law and the paper's Coulomb friction, for both normal
+// enforcements. The contact states (active directions, stick, slip) are
+// decided once from a velocity field and then frozen, as in one Newton
+// iteration; then J w must equal (R(v + e w) - R(v - e w)) / 2e for any w
+// that respects the constraints. This checks the row transformation of the
+// slipping nodes (the friction force follows the normal reaction n.R_flow),
+// the stick penalty, the penalty normal force, and the condensation.
+// Step e = 1e-6 |v|/|w|: truncation ~1e-12; round-off of R (penalty
+// lambda = 1e7 eta) ~1e-9 relative to R, divided by e: tolerance 1e-5.
+#include <dieflow/boundary_conditions.h>
+#include <dieflow/contact.h>
+#include <dieflow/geometry.h>
+#include <dieflow/run.h>
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include "report.h"
+
+#include <cmath>
+#include <sstream>
+
+using namespace dieflow;
+
+namespace
+{
+  void
+  check(const std::string &enforcement)
+  {
+    ParameterHandler prm;
+    declare_default_deck(prm);
+    prm.parse_input_from_string("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\nend\n"
+                                "subsection Contact\n set Normal enforcement = " +
+                                enforcement + "\nend\n");
+    Material material;
+    material.parse_parameters(prm);
+    BoundaryConditions<2> bc;
+    bc.parse_parameters(prm);
+    ContactParameters contact_parameters;
+    contact_parameters.parse_parameters(prm);
+
+    MeshParameters mesh;
+    mesh.die2d.cells_across = 4;
+    dealii::Triangulation<2> triangulation;
+    make_mesh(mesh, triangulation);
+    dealii::FESystem<2> fe(dealii::FE_Q<2>(1), 2);
+    DoFHandler<2>       dofs(triangulation);
+    dofs.distribute_dofs(fe);
+    AffineConstraints<double> hanging, prescribed, constraints, update_constraints;
+    hanging.close();
+    const auto wall_nodes = collect_wall_nodes(dofs, {3, 4, 5}, hanging, 10.);
+    bc.make_prescribed_constraints(dofs, prescribed);
+
+    const double eta = 0.1, lambda = 1e7 * eta;
+    ContactSet<2> contact;
+    contact.initialize(contact_parameters);
+    contact.setup(wall_nodes, prescribed, false);
+    contact.set_scales(eta, lambda);
+    FlowAssembler<2> flow(material, nullptr);
+    flow.set_penalty(lambda);
+    flow.set_tangent(FlowAssembler<2>::Tangent::standard);
+
+    const auto make = [&]() {
+      bc.make_constraints(dofs, hanging, wall_nodes, false, constraints);
+      contact.add_constraints(constraints);
+      constraints.close();
+      bc.make_constraints(dofs, hanging, wall_nodes, true, update_constraints);
+      contact.add_constraints(update_constraints);
+      update_constraints.close();
+    };
+    make();
+
+    // A velocity like the die flow's, faster towards the exit, pressing on
+    // the walls (v.n > 0: the active set keeps its walls, the penalty needs
+    // penetration to push back).
+    Vector<double>       v(dofs.n_dofs());
+    std::vector<Point<2>> support(dofs.n_dofs());
+    for (const auto &cell : dofs.active_cell_iterators())
+      for (const unsigned int vertex : cell->vertex_indices())
+        for (unsigned int d = 0; d < 2; ++d)
+          v[cell->vertex_dof_index(vertex, d)] =
+            d == 0 ? 190 + 30 * cell->vertex(vertex)[0] + 7 * std::sin(cell->vertex(vertex)[1]) :
+                     4 * cell->vertex(vertex)[1] + 3 * std::cos(cell->vertex(vertex)[0]);
+    constraints.distribute(v);
+
+    // Decide the states from v, as update_state() does, and freeze them.
+    Vector<double> unused, reactions;
+    flow.assemble_residual(dofs, v, update_constraints, unused, reactions);
+    std::ostringstream log;
+    contact.update(v, reactions, log);
+    make();
+    constraints.distribute(v);
+
+    dealii::DynamicSparsityPattern dsp(dofs.n_dofs());
+    dealii::DoFTools::make_sparsity_pattern(dofs, dsp, hanging, false);
+    dealii::SparsityPattern pattern;
+    pattern.copy_from(dsp);
+    dealii::SparseMatrix<double> J(pattern);
+    Vector<double>               rhs(dofs.n_dofs()), raw(dofs.n_dofs());
+    assemble_with_contact(flow, contact, dofs, v, update_constraints, Linearization::newton, &J, rhs, raw);
+
+    CycleSummary states;
+    contact.summarise(contact.results(v), v.linfty_norm(), states);
+
+    Vector<double> w(dofs.n_dofs());
+    for (unsigned int i = 0; i < w.size(); ++i)
+      w[i] = std::cos(0.37 * i * i + 0.2);
+    update_constraints.distribute(w);
+    const double   e = 1e-6 * v.l2_norm() / w.l2_norm();
+    Vector<double> plus = v, minus = v, r_plus(w.size()), r_minus(w.size()), Jw(w.size());
+    plus.add(e, w);
+    minus.add(-e, w);
+    assemble_with_contact(flow, contact, dofs, plus, update_constraints, Linearization::newton, nullptr, r_plus, raw);
+    assemble_with_contact(flow, contact, dofs, minus, update_constraints, Linearization::newton, nullptr, r_minus, raw);
+    J.vmult(Jw, w);
+    double error = 0, scale = 0;
+    for (unsigned int i = 0; i < w.size(); ++i)
+      if (!update_constraints.is_constrained(i))
+        {
+          const double fd = -(r_plus[i] - r_minus[i]) / (2 * e);
+          error           = std::max(error, std::abs(fd - Jw[i]));
+          scale           = std::max(scale, std::abs(Jw[i]));
+        }
+    double asymmetry = 0;
+    for (unsigned int i = 0; i < J.m(); ++i)
+      for (auto entry = J.begin(i); entry != J.end(i); ++entry)
+        asymmetry = std::max(asymmetry, std::abs(entry->value() - J.el(entry->column(), i)));
+
+    report(enforcement + ": the frozen states include stick and slip",
+           states.contact_nodes.stick > 0 && states.contact_nodes.slip > 0);
+    report(enforcement + ": assembled tangent matches finite differences (1e-5)", error < 1e-5 * scale);
+    report(enforcement + ": the friction makes the tangent non-symmetric", asymmetry > 1e-6 * J.linfty_norm());
+  }
+} // namespace
+
+int
+main()
+{
+  check("active set");
+  check("penalty");
+}

@@ -1,0 +1,58 @@
+// Every deck shipped in parameters/ runs and its result satisfies the laws
+// it must: converged, div v / grad v below 1e-5 (the penalty), the fluxes
+// over all boundary parts summing to zero up to the penalty's
+// compressibility (5e-5 of the inflow), the reactions to zero (1e-8, with
+// no body force), and, with contact, no penetration, no pulling die, friction
+// within its bound, sticking nodes at rest (1e-8 of the largest speed).
+#include <dieflow/run.h>
+
+#include "report.h"
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+using namespace dieflow;
+
+int
+main()
+{
+  std::set<std::filesystem::path> decks;
+  for (const auto &entry : std::filesystem::directory_iterator(std::string(SOURCE_DIR) + "/../parameters"))
+    if (entry.path().extension() == ".prm")
+      decks.insert(entry.path());
+
+  for (const auto &deck : decks)
+    try
+    {
+      ParameterHandler prm;
+      read_deck(deck.string(), prm);
+      prm.set("Output directory", "results/" + deck.stem().string());
+      prm.set("Write VTU", false);
+      std::ostringstream log;
+      const RunSummary   summary = run_deck(prm, deck.parent_path().string(), log);
+      const CycleSummary &c       = summary.cycles.back();
+
+      double flux = 0, inflow = 0, fx = 0, fy = 0;
+      for (const auto &[id, q] : c.flux)
+        {
+          flux += q;
+          inflow += std::max(-q, 0.);
+        }
+      for (const auto &[id, f] : c.boundary_force)
+        {
+          fx += f[0];
+          fy += f[1];
+        }
+      const double force_scale = std::abs(c.boundary_force.at(1)[0]) + std::abs(c.boundary_force.at(1)[1]);
+      const bool   ok = summary.converged && c.divergence_ratio < 1e-5 && std::abs(flux) < 5e-5 * inflow &&
+                      std::abs(fx) + std::abs(fy) < 1e-8 * force_scale && c.contact_penetration < 1e-12 &&
+                      c.contact_tension == 0 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8;
+      report(deck.filename().string() + " runs and keeps its laws", ok);
+    }
+    catch (const std::exception &exc)
+    {
+      report(deck.filename().string() + " runs and keeps its laws (" + one_line_message(exc) + ")", false);
+    }
+}
