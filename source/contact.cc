@@ -30,6 +30,15 @@ namespace dieflow
                       "deal.II step-41/42). penalty: the paper's perturbed "
                       "Lagrangian, F_n = -omega_n max(v.n, 0) (a small "
                       "penetration rate, which falls as 1/omega_n).");
+    prm.declare_entry("Stick",
+                      "exact",
+                      Selection("exact|penalty"),
+                      "exact: a sticking node is held at rest by the constraint "
+                      "v.t = 0, and its friction force is the reaction (a "
+                      "primal-dual active set for the tangential direction too). "
+                      "penalty: the paper's F_t = -omega_t v_t (eq. (16)), see "
+                      "Tangential penalty factor; always so with the penalty normal "
+                      "enforcement.");
     prm.declare_entry("Friction law",
                       "Coulomb",
                       Selection("Coulomb|Tresca|regularised Coulomb"),
@@ -85,6 +94,7 @@ namespace dieflow
     prm.enter_subsection("Contact");
     die_ids            = parse_id_list("Contact/Die ids", prm.get("Die ids"));
     normal_enforcement = prm.get("Normal enforcement");
+    stick_enforcement  = prm.get("Stick");
     const std::string law_name = prm.get("Friction law");
     law = (law_name == "Coulomb") ? FrictionLaw::Kind::coulomb :
           (law_name == "Tresca")  ? FrictionLaw::Kind::tresca :
@@ -236,7 +246,7 @@ namespace dieflow
         for (const auto &wall : wall_node.directions)
           if (parameters.die_ids.count(wall.id))
             node.directions.push_back(
-              {wall, ContactElement<dim>(wall_node.position, wall.facet, wall.normal), true, ContactStatus::slip, 1., 0., 0., false});
+              {wall, ContactElement<dim>(wall_node.position, wall.facet, wall.normal), true, ContactStatus::slip, 1., 0., 0., 0., false});
           else
             node.fixed_normals.push_back(wall.normal);
         const auto old = previous.find(key(node.position));
@@ -255,22 +265,39 @@ namespace dieflow
 
 
   template <int dim>
+  bool
+  ContactSet<dim>::sticks_exactly(const Node &node, const Direction &direction) const
+  {
+    return parameters.stick_enforcement == "exact" && !uses_penalty() && direction.active &&
+           direction.status == ContactStatus::stick && node.n_held() == 1;
+  }
+
+
+
+  template <int dim>
   void
   ContactSet<dim>::decompose_reaction(const Node &                  node,
                                       const dealii::Vector<double> &flow_residual,
-                                      std::vector<double> &         forces) const
+                                      std::vector<double> &         forces,
+                                      std::vector<double> &         stick_forces) const
   {
     // The reaction R at the node on the active normals and those of the
     // node's fixed walls: R = sum_k F_k n_k + a tangential part (the
     // friction); least squares through the Gram matrix.
     forces.assign(node.directions.size(), 0.);
+    stick_forces.assign(node.directions.size(), 0.);
     std::vector<Tensor<1, dim>> normals;
-    std::vector<int>            direction_of;
+    std::vector<int>            direction_of; // k for a normal, -2-k for a stick tangent, -1 fixed
     for (unsigned int k = 0; k < node.directions.size(); ++k)
       if (node.directions[k].active)
         {
           normals.push_back(node.directions[k].wall.normal);
           direction_of.push_back(k);
+          if (sticks_exactly(node, node.directions[k]))
+            {
+              normals.push_back(node.directions[k].element.tangent);
+              direction_of.push_back(-2 - static_cast<int>(k));
+            }
         }
     if (normals.empty())
       return;
@@ -296,6 +323,8 @@ namespace dieflow
     for (unsigned int i = 0; i < m; ++i)
       if (direction_of[i] >= 0)
         forces[direction_of[i]] = a[i];
+      else if (direction_of[i] <= -2)
+        stick_forces[-2 - direction_of[i]] = a[i];
   }
 
 
@@ -307,7 +336,7 @@ namespace dieflow
                           std::ostream &                log)
   {
     StateChanges        changes;
-    std::vector<double> forces;
+    std::vector<double> forces, stick_forces;
     std::vector<std::pair<unsigned int, unsigned int>> changed; // (node, direction)
     const bool          penalty = uses_penalty();
 
@@ -315,7 +344,7 @@ namespace dieflow
       {
         Node &node = nodes[i];
         if (!penalty)
-          decompose_reaction(node, flow_residual, forces);
+          decompose_reaction(node, flow_residual, forces, stick_forces);
         const auto u    = element_velocity(node, v);
         const bool held = node.n_held() > 0;
 
@@ -336,6 +365,7 @@ namespace dieflow
                 // p + c g_n > 0 with p = -F_n / w: in force units F_n - c w g_n < 0.
                 active           = forces[k] - contact_constant(dir) * g_n < 0;
                 dir.normal_force = dir.active ? forces[k] : 0.;
+                dir.stick_force  = stick_forces[k];
                 // A node no wall holds is free: its reaction must vanish.
                 if (!held)
                   for (unsigned int d = 0; d < dim; ++d)
@@ -362,14 +392,21 @@ namespace dieflow
                 const FrictionLaw law       = law_of(dir);
                 const double      slip_rate = dir.element.tangential_rate(u);
                 const double      current =
-                  ContactElement<dim>::friction(law, dir.status, dir.sign, slip_rate, dir.normal_force).force;
+                  sticks_exactly(node, dir) ?
+                    dir.stick_force :
+                    ContactElement<dim>::friction(law, dir.status, dir.sign, slip_rate, dir.normal_force).force;
                 state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
               }
             else if (dir.active)
               state = std::make_pair(ContactStatus::stick, dir.sign);
             if (dir.frozen)
               continue;
-            if (state.first != dir.status || (state.first == ContactStatus::slip && state.second != dir.sign))
+            // A direction that enters or leaves contact changed its normal
+            // state; the tangential state counts among those that stay.
+            const bool frictional = !law_of(dir).frictionless();
+            const bool stays      = dir.active && dir.status != ContactStatus::separated;
+            if (stays && (state.first != dir.status ||
+                          (frictional && state.first == ContactStatus::slip && state.second != dir.sign)))
               {
                 ++changes.tangential;
                 changed.emplace_back(i, k);
@@ -421,7 +458,11 @@ namespace dieflow
         std::vector<Tensor<1, dim>> normals;
         for (const auto &dir : node.directions)
           if (dir.active)
-            normals.push_back(dir.wall.normal);
+            {
+              normals.push_back(dir.wall.normal);
+              if (sticks_exactly(node, dir))
+                normals.push_back(dir.element.tangent);
+            }
         if (!normals.empty())
           constrain_normal_components<dim>(node.dofs, normals, std::vector<double>(normals.size(), 0.), constraints);
       }
@@ -445,7 +486,7 @@ namespace dieflow
             if (!dir.active)
               continue;
             const FrictionLaw law = law_of(dir);
-            if (!penalty && law.frictionless())
+            if (!penalty && (law.frictionless() || sticks_exactly(node, dir)))
               continue;
             const auto r = penalty ?
                              dir.element.penalty(u,
@@ -516,7 +557,8 @@ namespace dieflow
             r.free_reaction  = dir.active ? 0. : dir.free_reaction;
             const auto law   = law_of(dir);
             r.friction_bound = law.kind == FrictionLaw::Kind::tresca ? law.shear_bound : law.mu * std::abs(r.normal_force);
-            r.friction_force = (dir.active && (uses_penalty() || node.n_held() == 1)) ?
+            r.friction_force = sticks_exactly(node, dir) ? dir.stick_force :
+                               (dir.active && (uses_penalty() || node.n_held() == 1)) ?
                                  ContactElement<dim>::friction(law, dir.status, dir.sign, r.slip_rate, r.normal_force).force :
                                  0.;
             result.push_back(r);

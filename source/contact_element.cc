@@ -45,7 +45,8 @@ namespace dieflow
                                    law.mu * std::max(-normal_force, 0.);
             const double trial = friction_force - c * slip_rate;
             const double sign  = (trial <= 0) ? 1. : -1.;
-            return {std::abs(trial) <= bound ? ContactStatus::stick : ContactStatus::slip, sign};
+            // Without a bound (no friction, no pressure) nothing can stick.
+            return {bound > 0 && std::abs(trial) <= bound ? ContactStatus::stick : ContactStatus::slip, sign};
           }
         case FrictionLaw::Kind::regularised_coulomb:
           return {std::abs(slip_rate) <= law.regularisation_velocity ? ContactStatus::stick :

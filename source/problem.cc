@@ -243,7 +243,8 @@ namespace dieflow
       {
         dealii::TimerOutput::Scope scope(timer, "contact");
         changes = contact.update(v, nodal_flow_residual(v), log);
-        if (changes.normal > 0)
+        // Contact and exact stick are constraints.
+        if (changes.total() > 0)
           make_constraints();
       }
     constraints.distribute(v);

@@ -81,7 +81,8 @@ main()
       // The die face's row comes first along the wall (C-D-E).
       const Row &face = d[0], &land = d[1];
       const double sin_beta = std::sin(70 * M_PI / 180);
-      d_ok = face.status == 2 && face.normal_velocity == 0 && face.pressure > 0 && land.status == 0 &&
+      d_ok = face.status == 2 && std::abs(face.normal_velocity) < 1e-9 * std::abs(face.slip_velocity) &&
+             face.pressure > 0 && land.status == 0 &&
              land.pressure == 0 && land.normal_velocity < 0 &&
              std::abs(land.normal_velocity - face.slip_velocity * sin_beta) < 1e-6 * std::abs(land.normal_velocity); // 8 digits in the file
     }

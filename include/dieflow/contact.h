@@ -25,6 +25,9 @@ namespace dieflow
   {
     std::set<BoundaryId>         die_ids;
     std::string                  normal_enforcement = "active set";
+    /// "exact": v.t = 0 as a constraint where a node sticks (active set
+    /// only); "penalty": the paper's F_t = -omega_t v_t.
+    std::string                  stick_enforcement = "exact";
     FrictionLaw::Kind            law                = FrictionLaw::Kind::coulomb;
     std::map<BoundaryId, double> friction_coefficient;
     std::map<BoundaryId, double> tresca_factor;
@@ -153,7 +156,8 @@ namespace dieflow
     StateChanges
     update(const dealii::Vector<double> &v, const dealii::Vector<double> &flow_residual, std::ostream &log);
 
-    /// v.n_k = 0 for every active direction (active set only).
+    /// v.n_k = 0 for every active direction, and v.t = 0 where a node
+    /// sticks exactly (active set only).
     void
     add_constraints(AffineConstraints<double> &constraints) const;
 
@@ -201,6 +205,8 @@ namespace dieflow
       ContactStatus       status;
       double              sign;
       double              normal_force;
+      /// t.R_flow of a node held at rest by the exact stick constraint.
+      double              stick_force;
       /// n.R_flow at a separated direction: zero at equilibrium.
       double              free_reaction;
       bool                frozen;
@@ -233,8 +239,16 @@ namespace dieflow
     penalty_of(const double factor, const double weight) const;
     typename ContactElement<dim>::Vector
     element_velocity(const Node &node, const dealii::Vector<double> &v) const;
+    /// True for a node that one wall holds and that sticks to it exactly.
+    bool
+    sticks_exactly(const Node &node, const Direction &direction) const;
+    /// The node's reaction on its active normals (into @p forces) and, where
+    /// it sticks exactly, on the tangent (into @p stick_forces).
     void
-    decompose_reaction(const Node &node, const dealii::Vector<double> &flow_residual, std::vector<double> &forces) const;
+    decompose_reaction(const Node &                  node,
+                       const dealii::Vector<double> &flow_residual,
+                       std::vector<double> &         forces,
+                       std::vector<double> &         stick_forces) const;
 
     ContactParameters          parameters;
     std::vector<Node>          nodes;
