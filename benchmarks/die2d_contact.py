@@ -105,7 +105,8 @@ def main():
                 f.write("set xlabel 'arc length along the die from the entry C (mm): die face to %.2f, then the land'\n" % (14.25 / math.sin(math.radians(70))))
                 f.write("set ylabel '%s'\nset key top right\nset grid\n" % label)
                 f.write("set title 'die2d, %d cells across: %s along the die face and land (id 4)'\n" % (args.cells_across, label))
-                f.write("set arrow from %.4f, graph 0 to %.4f, graph 1 nohead dt 2\n" % (14.25 / math.sin(math.radians(70)),) * 2)
+                face = 14.25 / math.sin(math.radians(70))
+                f.write("set arrow from %.4f, graph 0 to %.4f, graph 1 nohead dt 2\n" % (face, face))
                 plots = []
                 for case, style in [("N0", "lw 2"), ("N1", "lw 2"), ("N3", "lw 2")]:
                     plots.append("'%s' using 1:%d with linespoints pt 7 ps 0.4 %s title '%s'" % (

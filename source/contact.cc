@@ -340,11 +340,30 @@ namespace dieflow
     std::vector<std::pair<unsigned int, unsigned int>> changed; // (node, direction)
     const bool          penalty = uses_penalty();
 
+    // The active set's dead band: a direction changes its normal state only
+    // when the rule p + c v.n > 0 is violated by more than 1e-6 of the
+    // largest normal force. Where the metal just touches the die (p and v.n
+    // both about zero, as along the end of a land), the plain rule flips
+    // such nodes back and forth on round-off-sized forces.
+    std::vector<std::vector<double>> all_forces(nodes.size()), all_stick_forces(nodes.size());
+    double                           largest_force = 0;
+    if (!penalty)
+      for (unsigned int i = 0; i < nodes.size(); ++i)
+        {
+          decompose_reaction(nodes[i], flow_residual, all_forces[i], all_stick_forces[i]);
+          for (const double f : all_forces[i])
+            largest_force = std::max(largest_force, std::abs(f));
+        }
+    const double dead_band = 1e-6 * largest_force;
+
     for (unsigned int i = 0; i < nodes.size(); ++i)
       {
         Node &node = nodes[i];
         if (!penalty)
-          decompose_reaction(node, flow_residual, forces, stick_forces);
+          {
+            forces       = all_forces[i];
+            stick_forces = all_stick_forces[i];
+          }
         const auto u    = element_velocity(node, v);
         const bool held = node.n_held() > 0;
 
@@ -363,7 +382,8 @@ namespace dieflow
             else
               {
                 // p + c g_n > 0 with p = -F_n / w: in force units F_n - c w g_n < 0.
-                active           = forces[k] - contact_constant(dir) * g_n < 0;
+                const double indicator = forces[k] - contact_constant(dir) * g_n;
+                active                 = indicator < (dir.active ? dead_band : -dead_band);
                 dir.normal_force = dir.active ? forces[k] : 0.;
                 dir.stick_force  = stick_forces[k];
                 // A node no wall holds is free: its reaction must vanish.
@@ -429,6 +449,7 @@ namespace dieflow
         std::set<unsigned int> frozen_nodes;
         for (const auto &[i, k] : changed)
           {
+
             Direction &dir = nodes[i].directions[k];
             dir.active     = true;
             dir.status     = ContactStatus::slip;

@@ -261,8 +261,12 @@ namespace dieflow
       if (x_d > 1e-9 * h_i)
         {
           make_block(A, Point<2>(0, 0), B, C, cells_along(g.container_length, h_i / ny), ny, blocks[0]);
+          // Along the converging zone: the mean of its length on the axis
+          // (x_d) and along the die face, so that the die face is resolved
+          // like the walls next to it.
+          const double face = C.distance(D);
           make_block(Point<2>(0, 0), Point<2>(x_d, 0), C, D,
-                     cells_along(x_d, 0.5 * (h_i + h_o) / ny), ny, blocks[1]);
+                     cells_along(0.5 * (x_d + face), 0.5 * (h_i + h_o) / ny), ny, blocks[1]);
         }
       else
         {

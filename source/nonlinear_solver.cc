@@ -34,7 +34,9 @@ namespace dieflow
                       Double(0),
                       "Converged when ||R|| / ||reactions|| falls below this: the "
                       "out-of-balance force of the free dofs relative to the "
-                      "forces the boundaries exert.");
+                      "forces the boundaries exert. Never below the round-off "
+                      "floor that the penalty leaves, about 3e-17 x penalty "
+                      "factor x sqrt(dofs).");
     prm.declare_entry("Update tolerance",
                       "1e-8",
                       Double(0),
@@ -170,8 +172,9 @@ namespace dieflow
         // A linear problem (Newtonian, no contact) is solved by its first
         // Newton step up to round-off.
         const bool linear_done = (k > 0 && system.is_linear());
+        const double tolerance = std::max(residual_tolerance, system.residual_floor());
         if (changes.total() == 0 &&
-            (residual <= residual_tolerance || (k > 0 && last_update <= update_tolerance) || linear_done))
+            (residual <= tolerance || (k > 0 && last_update <= update_tolerance) || linear_done))
           {
             result.converged = true;
             return result;

@@ -4,7 +4,8 @@
 // frictionless unilateral contact. The metal presses on the whole container
 // wall, so every contact node stays active, the constraints are the same
 // (the corner C at rest in both), and the two discrete solutions must agree
-// to round-off (1e-9 relative: the penalty's round-off floor).
+// to round-off (1e-8 relative: the penalty's round-off floor is
+// 3e-17 x 1e7 x sqrt(738 dofs) = 8e-9).
 #include <dieflow/run.h>
 
 #include "report.h"
@@ -38,8 +39,8 @@ main()
   for (const auto &[id, force] : slip.boundary_force)
     for (unsigned int d = 0; d < 2; ++d)
       gap = std::max(gap, std::abs(force[d] - contact.boundary_force.at(id)[d]));
-  report("every boundary force agrees (1e-9 of the ram force)", gap < 1e-9 * slip.boundary_force.at(1)[0]);
+  report("every boundary force agrees (1e-8 of the ram force)", gap < 1e-8 * slip.boundary_force.at(1)[0]);
   report("the container's normal force is its reaction",
-         std::abs(contact.die_normal_force.at(3) + slip.boundary_force.at(3)[1]) < 1e-9 * slip.boundary_force.at(1)[0]);
+         std::abs(contact.die_normal_force.at(3) + slip.boundary_force.at(3)[1]) < 1e-8 * slip.boundary_force.at(1)[0]);
   report("no friction", contact.die_friction_force.at(3) == 0);
 }

@@ -2,8 +2,10 @@
 // it must: converged, div v / grad v below 1e-5 (the penalty), the fluxes
 // over all boundary parts summing to zero up to the penalty's
 // compressibility (5e-5 of the inflow), the reactions to zero (1e-8, with
-// no body force), and, with contact, no penetration, no pulling die, friction
-// within its bound, sticking nodes at rest (1e-8 of the largest speed).
+// no body force), and, with contact, no penetration and no pulling die
+// (within the active set's dead band: 1e-6 of the largest normal force, so
+// a penetration rate of 1e-6 of the largest speed), friction within its
+// bound, sticking nodes at rest (1e-8 of the largest speed).
 #include <dieflow/run.h>
 
 #include "report.h"
@@ -47,8 +49,8 @@ main()
         }
       const double force_scale = std::abs(c.boundary_force.at(1)[0]) + std::abs(c.boundary_force.at(1)[1]);
       const bool   ok = summary.converged && c.divergence_ratio < 1e-5 && std::abs(flux) < 5e-5 * inflow &&
-                      std::abs(fx) + std::abs(fy) < 1e-8 * force_scale && c.contact_penetration < 1e-12 &&
-                      c.contact_tension == 0 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8;
+                      std::abs(fx) + std::abs(fy) < 1e-8 * force_scale && c.contact_penetration < 1e-6 &&
+                      c.contact_tension < 1e-6 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8;
       report(deck.filename().string() + " runs and keeps its laws", ok);
     }
     catch (const std::exception &exc)

@@ -52,6 +52,14 @@ namespace dieflow
     virtual double
     residual(const dealii::Vector<double> &v, dealii::Vector<double> &minus_residual) = 0;
 
+    /// The relative residual that round-off alone leaves (the solver never
+    /// asks for less).
+    virtual double
+    residual_floor() const
+    {
+      return 0;
+    }
+
     /// -R (condensed) of the last assemble_system().
     virtual const dealii::Vector<double> &
     minus_residual() const = 0;

@@ -79,6 +79,8 @@ namespace dieflow
     solve(Vector<double> &update) override;
     bool
     is_linear() const override;
+    double
+    residual_floor() const override;
     void
     accept_step(const Vector<double> &v,
                 const Vector<double> &update,
