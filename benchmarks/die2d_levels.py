@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Wall time and peak memory of die2d with material P (Norton-Hoff, m = 0.2,
-slip walls, free outlet) at several mesh levels, split into assembly, linear
-solve and the rest, with dofs and iterations. Each level runs in a process
-of its own, so the peak memory is that level's.
+free outlet) at several mesh levels, split into assembly, linear solve and
+the rest, with dofs and iterations. The walls are the contact walls of case
+P1 (the paper's friction), or frictionless slip walls with --walls slip.
+Each level runs in a process of its own, so the peak memory is that level's.
 
-    benchmarks/die2d_levels.py [--levels 4] [--program build/dieflow]
+    benchmarks/die2d_levels.py [--levels 4] [--walls contact|slip]
+                               [--tangent primal-dual|standard] [--program build/dieflow]
 
 Not a test: the figures depend on the machine, which the report names.
 """
@@ -29,10 +31,14 @@ def main():
     parser.add_argument("--cells-across", type=int, default=8)
     parser.add_argument("--program", default=os.path.join(root, "build", "dieflow"))
     parser.add_argument("--tangent", default="primal-dual", choices=["primal-dual", "standard"])
+    parser.add_argument("--walls", default="contact", choices=["contact", "slip"])
     args = parser.parse_args()
 
-    base = open(os.path.join(root, "parameters", "die2d-norton-hoff.prm")).read()
-    print("die2d, material P (Norton-Hoff m = 0.2), slip walls; %s Newton from a Newtonian start" % args.tangent)
+    base = open(os.path.join(root, "parameters", "die2d-P1.prm")).read()
+    if args.walls == "slip":
+        base += "\nsubsection Boundary conditions\n set Slip wall ids = 3, 4\nend\nsubsection Contact\n set Die ids =\nend\n"
+    print("die2d, material P (Norton-Hoff m = 0.2), %s walls; %s Newton from a Newtonian start" % (
+        "frictionless slip" if args.walls == "slip" else "contact with the paper's friction (P1)", args.tangent))
     print("machine: " + machine())
     print()
     print("| level | cells across | cells | dofs | Newton its | linear solves | wall [s] | assembly [s] | linear solve [s] | rest [s] | peak memory [MB] | ram force [N/mm] |")
@@ -46,14 +52,15 @@ def main():
                 f.write("\nset Output directory = %s\nset Write VTU = false\n" % work)
                 f.write("subsection Mesh\n subsection Die2d\n  set Cells across = %d\n end\nend\n" % across)
                 f.write("subsection Nonlinear solver\n set Newton tangent = %s\nend\n" % args.tangent)
-            subprocess.run([args.program, deck], check=True, stdout=subprocess.DEVNULL)
+            status = subprocess.run([args.program, deck], stdout=subprocess.DEVNULL).returncode
             s = json.load(open(os.path.join(work, "summary.json")))
         c = s["cycles"][0]
         stages = s["stage_wall_time"]
         assembly, solve = stages.get("assembly", 0), stages.get("linear solve", 0)
         rest = s["wall_time"] - assembly - solve
-        print("| %d | %d | %d | %d | %d | %d | %.2f | %.2f | %.2f | %.2f | %.0f | %.4f |" % (
-            level, across, c["cells"], c["dofs"], c["nonlinear_iterations"], c["linear_solves"],
+        its = "%d" % c["nonlinear_iterations"] if status == 0 else "not converged (%d)" % c["nonlinear_iterations"]
+        print("| %d | %d | %d | %d | %s | %d | %.2f | %.2f | %.2f | %.2f | %.0f | %.4f |" % (
+            level, across, c["cells"], c["dofs"], its, c["linear_solves"],
             s["wall_time"], assembly, solve, rest, s["peak_memory_mb"], c["boundary_force"]["1"][0]))
         sys.stdout.flush()
 

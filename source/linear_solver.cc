@@ -35,10 +35,12 @@ namespace dieflow
       {
         direct.initialize(matrix);
       }
-    catch (const std::exception &exc)
+    catch (const std::exception &)
       {
-        throw std::runtime_error("the sparse direct solver (UMFPACK) failed to "
-                                 "factorise the system: " + one_line_message(exc));
+        // UMFPACK's own text is a page of generic advice; what matters here
+        // is that the Jacobian is singular (or memory ran out).
+        throw SolverFailure("the sparse direct solver (UMFPACK) could not factorise the "
+                            "linearised system: it is singular, or memory ran out");
       }
   }
 

@@ -1,3 +1,4 @@
+#include <dieflow/linear_solver.h>
 #include <dieflow/nonlinear_solver.h>
 
 #include <cmath>
@@ -189,8 +190,23 @@ namespace dieflow
             return result;
           }
 
-        system.solve(update);
-        ++result.linear_solves;
+        const auto solved = [&]() {
+          try
+            {
+              system.solve(update);
+              ++result.linear_solves;
+              return true;
+            }
+          catch (const SolverFailure &failure)
+            {
+              result.failure = std::string(failure.what()) + " at iteration " + std::to_string(k) +
+                               "; the tangent lost its definiteness far from the solution: use "
+                               "Newton tangent = primal-dual, or Method = Picard then Newton";
+              return false;
+            }
+        };
+        if (!solved())
+          return result;
         double step = 1;
 
         // Once the update is small, Newton is in its quadratic regime and a
@@ -208,15 +224,34 @@ namespace dieflow
                 log << "    line search found no descent: Picard step instead" << std::endl;
                 linearization = Linearization::picard;
                 system.assemble_system(v, linearization);
-                system.solve(update);
-                ++result.linear_solves;
+                if (!solved())
+                  return result;
                 step = 1;
               }
+          }
+        // A trust bound: metal does not move ten times faster than anything
+        // the deck prescribes; a longer Newton step is an overshoot.
+        const double scale = system.velocity_scale();
+        if (scale > 0 && step * update.linfty_norm() > 10 * scale)
+          {
+            step = 10 * scale / update.linfty_norm();
+            log << "    update limited to ten times the largest prescribed speed (step " << std::fixed
+                << std::setprecision(3) << step << ")" << std::defaultfloat << std::endl;
           }
         system.accept_step(v, update, step, linearization);
         v.add(step, update);
         last_update = step * update.l2_norm() / std::max(v.l2_norm(), 1e-300);
         last_step   = step;
+        if (!std::isfinite(last_update) || (scale > 0 && v.linfty_norm() > 1e3 * scale))
+          {
+            std::ostringstream why;
+            why << "the iteration diverges at iteration " << k + 1
+                << ": the velocity exceeds a thousand times the largest prescribed speed; use "
+                   "Newton tangent = primal-dual, or Method = Picard then Newton";
+            result.failure    = why.str();
+            result.iterations = k + 1;
+            return result;
+          }
       }
   }
 } // namespace dieflow

@@ -132,7 +132,7 @@ namespace dieflow
                  "walled everywhere, so a constant added to the pressure changes no "
                  "equilibrium; only the penalty's compressibility fixes the pressure level, "
                  "and with it the Coulomb friction forces and the ram force, which will move "
-                 "with the penalty factor and the mesh (doc/formulation.md). Compare "
+                 "with the penalty factor and the mesh (doc/contact.md). Compare "
                  "velocities, not forces."
               << std::endl;
       }
@@ -336,11 +336,12 @@ namespace dieflow
     // The velocity of a Newtonian, velocity-driven problem does not depend on
     // the viscosity's value; the law's viscosity at a typical strain rate
     // keeps forces and tractions (body force, Tresca) on the right scale.
+    prescribed_speed      = boundary_conditions.largest_prescribed_speed(dof_handler);
     double reference_rate = material.reference_strain_rate;
     if (reference_rate == 0)
       {
         const double diameter = dealii::GridTools::diameter(triangulation);
-        reference_rate        = boundary_conditions.largest_prescribed_speed(dof_handler) / diameter;
+        reference_rate        = prescribed_speed / diameter;
         if (reference_rate == 0)
           reference_rate = 1;
       }
@@ -424,7 +425,7 @@ namespace dieflow
           if (std::abs(summary.flux[id]) > 1e-6 * inflow)
             log << "  flux through die id " << id << ": " << std::setprecision(4) << summary.flux[id] << " ("
                 << 100. * std::abs(summary.flux[id]) / inflow << "% of the inflow): "
-                << (summary.flux[id] < 0 ? "the metal leaves the wall there (separated), see doc/formulation.md" :
+                << (summary.flux[id] < 0 ? "the metal leaves the wall there (separated), see doc/contact.md" :
                                            "penetration")
                 << std::endl;
       }
@@ -501,11 +502,18 @@ namespace dieflow
         cycle_summary.cycle = cycle;
         start_solves       = 0;
         contact_assemblies = 0;
-        if (cycle == 0)
-          newtonian_start();
-
-        assembler.update_dual(dof_handler, velocity, nullptr, 0);
-        const NonlinearResult result = nonlinear_solver.solve(*this, velocity, log);
+        NonlinearResult result;
+        try
+          {
+            if (cycle == 0)
+              newtonian_start();
+            assembler.update_dual(dof_handler, velocity, nullptr, 0);
+            result = nonlinear_solver.solve(*this, velocity, log);
+          }
+        catch (const SolverFailure &failure)
+          {
+            result.failure = std::string(failure.what()) + " for the Newtonian start";
+          }
         cycle_summary.converged            = result.converged;
         cycle_summary.nonlinear_iterations = result.iterations;
         cycle_summary.linear_solves        = result.linear_solves + start_solves;

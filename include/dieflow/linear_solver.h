@@ -7,8 +7,17 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <stdexcept>
+
 namespace dieflow
 {
+  /// A linear system that could not be solved (singular, or out of memory).
+  class SolverFailure : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
   /**
    * Solves the linearised systems J du = -R. Direct: UMFPACK (SuiteSparse)
    * through deal.II, for any matrix, symmetric or not.
@@ -21,7 +30,7 @@ namespace dieflow
     void
     parse_parameters(ParameterHandler &prm);
 
-    /// Factorises @p matrix; throws std::runtime_error if it is singular.
+    /// Factorises @p matrix; throws SolverFailure if it cannot.
     void
     factorize(const dealii::SparseMatrix<double> &matrix);
 

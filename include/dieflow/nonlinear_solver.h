@@ -60,6 +60,13 @@ namespace dieflow
       return 0;
     }
 
+    /// The largest prescribed speed: updates far above it are not trusted.
+    virtual double
+    velocity_scale() const
+    {
+      return 0;
+    }
+
     /// -R (condensed) of the last assemble_system().
     virtual const dealii::Vector<double> &
     minus_residual() const = 0;
@@ -113,7 +120,10 @@ namespace dieflow
    * update ||du|| / ||v|| is below the update tolerance. Newton updates
    * smaller than 1e-6 ||v|| are taken whole (the quadratic regime). A Newton step that
    * the line search cannot make reduce the residual is replaced by a Picard
-   * step (the Picard matrix is positive definite).
+   * step (the Picard matrix is positive definite). No update may change a
+   * velocity by more than ten times the largest prescribed speed (a longer
+   * step is shortened, and the log says so), and an iterate faster than a
+   * thousand times that speed ends the run: the iteration diverges.
    */
   class NonlinearSolver
   {

@@ -81,6 +81,11 @@ namespace dieflow
     is_linear() const override;
     double
     residual_floor() const override;
+    double
+    velocity_scale() const override
+    {
+      return prescribed_speed;
+    }
     void
     accept_step(const Vector<double> &v,
                 const Vector<double> &update,
@@ -153,6 +158,7 @@ namespace dieflow
     FlowAssembler<dim> assembler;
     double             mean_viscosity = 0;
     unsigned int       start_solves   = 0;
+    double             prescribed_speed = 0;
 
     std::vector<std::pair<double, std::string>> pvd_records;
   };
