@@ -190,7 +190,7 @@ namespace dieflow
   ContactSet<dim>::law_of(const Direction &direction) const
   {
     FrictionLaw law;
-    law.kind                    = parameters.law;
+    law.kind                    = direction.regularised ? FrictionLaw::Kind::regularised_coulomb : parameters.law;
     law.mu                      = friction_coefficient(direction.wall.id);
     const auto m                = parameters.tresca_factor.find(direction.wall.id);
     law.shear_bound             = (m == parameters.tresca_factor.end() ? 0. : m->second) *
@@ -221,14 +221,28 @@ namespace dieflow
                          const AffineConstraints<double> & prescribed,
                          const bool                        keep_state)
   {
-    // States of the previous mesh by position, for the nodes that remain.
-    std::map<std::pair<long, long>, std::vector<Direction>> previous;
-    const auto key = [](const dealii::Point<dim> &p) {
-      return std::make_pair(std::lround(p[0] * 1e9), std::lround(p[1] * 1e9));
+    // The states of the previous mesh: a node that remains keeps its own; a
+    // new one (the midpoint of a refined wall face) takes that of the
+    // nearest old node with the same wall direction.
+    const std::vector<Node> previous = keep_state ? nodes : std::vector<Node>();
+    const auto inherit = [&](const dealii::Point<dim> &position, Direction &direction) {
+      double           nearest = std::numeric_limits<double>::max();
+      const Direction *source  = nullptr;
+      for (const auto &old : previous)
+        for (const auto &candidate : old.directions)
+          if (candidate.wall.id == direction.wall.id && candidate.wall.normal * direction.wall.normal > 0.999 &&
+              old.position.distance(position) < nearest)
+            {
+              nearest = old.position.distance(position);
+              source  = &candidate;
+            }
+      if (source != nullptr)
+        {
+          direction.active = source->active;
+          direction.status = source->status;
+          direction.sign   = source->sign;
+        }
     };
-    if (keep_state)
-      for (const auto &node : nodes)
-        previous[key(node.position)] = node.directions;
 
     nodes.clear();
     recent_signatures.clear();
@@ -245,18 +259,23 @@ namespace dieflow
         node.vertex   = wall_node.vertex;
         for (const auto &wall : wall_node.directions)
           if (parameters.die_ids.count(wall.id))
-            node.directions.push_back(
-              {wall, ContactElement<dim>(wall_node.position, wall.facet, wall.normal), true, ContactStatus::slip, 1., 0., 0., 0., false});
+            {
+              node.directions.push_back({wall,
+                                         ContactElement<dim>(wall_node.position, wall.facet, wall.normal),
+                                         true,
+                                         ContactStatus::slip,
+                                         1.,
+                                         0.,
+                                         0.,
+                                         0.,
+                                         0,
+                                         false,
+                                         false});
+              if (keep_state)
+                inherit(wall_node.position, node.directions.back());
+            }
           else
             node.fixed_normals.push_back(wall.normal);
-        const auto old = previous.find(key(node.position));
-        if (old != previous.end() && old->second.size() == node.directions.size())
-          for (unsigned int k = 0; k < node.directions.size(); ++k)
-            {
-              node.directions[k].active = old->second[k].active;
-              node.directions[k].status = old->second[k].status;
-              node.directions[k].sign   = old->second[k].sign;
-            }
         if (!node.directions.empty())
           nodes.push_back(node);
       }
@@ -268,7 +287,7 @@ namespace dieflow
   bool
   ContactSet<dim>::sticks_exactly(const Node &node, const Direction &direction) const
   {
-    return parameters.stick_enforcement == "exact" && !uses_penalty() && direction.active &&
+    return parameters.stick_enforcement == "exact" && !uses_penalty() && !direction.regularised && direction.active &&
            direction.status == ContactStatus::stick && node.n_held() == 1;
   }
 
@@ -337,7 +356,7 @@ namespace dieflow
   {
     StateChanges        changes;
     std::vector<double> forces, stick_forces;
-    std::vector<std::pair<unsigned int, unsigned int>> changed; // (node, direction)
+    std::vector<std::pair<unsigned int, unsigned int>> changed_normal, changed_tangential; // (node, direction)
     const bool          penalty = uses_penalty();
 
     // The active set's dead band: a direction changes its normal state only
@@ -391,12 +410,12 @@ namespace dieflow
                   for (unsigned int d = 0; d < dim; ++d)
                     dir.free_reaction += dir.wall.normal[d] * flow_residual[node.dofs[d]];
               }
-            if (dir.frozen)
+            if (dir.held_in_contact)
               continue;
             if (active != dir.active)
               {
                 ++changes.normal;
-                changed.emplace_back(i, k);
+                changed_normal.emplace_back(i, k);
               }
             dir.active = active;
           }
@@ -416,11 +435,24 @@ namespace dieflow
                     dir.stick_force :
                     ContactElement<dim>::friction(law, dir.status, dir.sign, slip_rate, dir.normal_force).force;
                 state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
+                // A slipping node whose velocity reversed passed through rest
+                // under the friction force. The second time it does so in a
+                // run it sticks, and slips again only if its reaction leaves
+                // the cone, then in the direction the reaction pushes: near
+                // dead zones, where the slip rates are small, nodes otherwise
+                // flip their slip direction from one iteration to the next.
+                if (dir.status == ContactStatus::slip && slip_rate * dir.sign < 0 && !law.frictionless() &&
+                    law.kind != FrictionLaw::Kind::regularised_coulomb && ++dir.reversals >= 2)
+                  state.first = ContactStatus::stick;
               }
             else if (dir.active)
               state = std::make_pair(ContactStatus::stick, dir.sign);
-            if (dir.frozen)
-              continue;
+            if (dir.regularised)
+              {
+                // A smooth law has no states to settle: only the label.
+                dir.status = state.first;
+                continue;
+              }
             // A direction that enters or leaves contact changed its normal
             // state; the tangential state counts among those that stay.
             const bool frictional = !law_of(dir).frictionless();
@@ -429,16 +461,17 @@ namespace dieflow
                           (frictional && state.first == ContactStatus::slip && state.second != dir.sign)))
               {
                 ++changes.tangential;
-                changed.emplace_back(i, k);
-
+                changed_tangential.emplace_back(i, k);
               }
             dir.status = state.first;
             dir.sign   = state.second;
           }
       }
 
-    // Cycling: a state seen a few iterations ago returns. Freeze the nodes
-    // that keep changing in their pressing, slipping state.
+    // Cycling: a state seen a few iterations ago returns. The directions
+    // that keep entering and leaving contact are held in contact; those
+    // that keep switching between stick and slip get the regularised
+    // Coulomb law (smooth, so nothing left to switch).
     std::size_t signature = nodes.size();
     for (const auto &node : nodes)
       for (const auto &dir : node.directions)
@@ -446,19 +479,17 @@ namespace dieflow
     if (changes.total() > 0 &&
         std::find(recent_signatures.begin(), recent_signatures.end(), signature) != recent_signatures.end())
       {
-        std::set<unsigned int> frozen_nodes;
-        for (const auto &[i, k] : changed)
+        for (const auto &[i, k] : changed_normal)
           {
-
-            Direction &dir = nodes[i].directions[k];
-            dir.active     = true;
-            dir.status     = ContactStatus::slip;
-            dir.sign       = dir.element.tangential_rate(element_velocity(nodes[i], v)) >= 0 ? 1. : -1.;
-            dir.frozen     = true;
-            frozen_nodes.insert(i);
+            Direction &dir      = nodes[i].directions[k];
+            dir.active          = true;
+            dir.held_in_contact = true;
           }
-        log << "    contact states cycle: " << frozen_nodes.size()
-            << " node(s) frozen in contact and slipping" << std::endl;
+        for (const auto &[i, k] : changed_tangential)
+          nodes[i].directions[k].regularised = true;
+        log << "    contact states cycle: " << changed_normal.size() << " direction(s) held in contact, "
+            << changed_tangential.size() << " friction law(s) regularised (arctan, v0 = "
+            << parameters.regularisation_velocity << " mm/s)" << std::endl;
       }
     recent_signatures.push_back(signature);
     if (recent_signatures.size() > 12)
@@ -603,12 +634,14 @@ namespace dieflow
         summary.die_normal_force[r.id] += std::abs(r.normal_force);
         summary.die_friction_force[r.id] += std::abs(r.friction_force);
       }
-    double largest_force = 0, largest_bound = 0;
+    double largest_force = 0, largest_bound = 0, largest_friction = 0;
     for (const auto &r : results)
       {
-        largest_force = std::max(largest_force, std::abs(r.normal_force));
-        largest_bound = std::max(largest_bound, r.friction_bound);
+        largest_force    = std::max(largest_force, std::abs(r.normal_force));
+        largest_bound    = std::max(largest_bound, r.friction_bound);
+        largest_friction = std::max(largest_friction, std::abs(r.friction_force));
       }
+    summary.friction_power = 0;
     summary.contact_penetration = summary.contact_tension = summary.friction_excess = summary.stick_slip_rate = 0;
     summary.separated_reaction = 0;
     for (const auto &r : results)
@@ -621,7 +654,9 @@ namespace dieflow
         summary.friction_excess = std::max(summary.friction_excess, std::abs(r.friction_force) - r.friction_bound);
         if (r.status == ContactStatus::stick)
           summary.stick_slip_rate = std::max(summary.stick_slip_rate, std::abs(r.slip_rate));
+        summary.friction_power = std::max(summary.friction_power, r.friction_force * r.slip_rate);
       }
+    summary.friction_power /= std::max(largest_friction * speed_scale, 1e-300);
     summary.contact_penetration /= std::max(speed_scale, 1e-300);
     summary.stick_slip_rate /= std::max(speed_scale, 1e-300);
     summary.contact_tension /= std::max(largest_force, 1e-300);
@@ -649,6 +684,67 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The results of one wall in order along it: start at the point
+    /// farthest from the centroid (an end of the wall), then always the
+    /// nearest next point.
+    template <int dim>
+    std::vector<const ContactNodeResult<dim> *>
+    along_the_wall(std::vector<const ContactNodeResult<dim> *> points)
+    {
+      std::vector<const ContactNodeResult<dim> *> chain;
+      if (points.empty())
+        return chain;
+      dealii::Point<dim> centroid;
+      for (const auto *p : points)
+        centroid += p->position / static_cast<double>(points.size());
+      auto start = std::max_element(points.begin(), points.end(), [&](auto a, auto b) {
+        return a->position.distance(centroid) < b->position.distance(centroid);
+      });
+      chain.push_back(*start);
+      points.erase(start);
+      while (!points.empty())
+        {
+          auto next = std::min_element(points.begin(), points.end(), [&](auto a, auto b) {
+            return a->position.distance(chain.back()->position) < b->position.distance(chain.back()->position);
+          });
+          chain.push_back(*next);
+          points.erase(next);
+        }
+      return chain;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  std::vector<dealii::Point<dim>>
+  ContactSet<dim>::hot_points(const std::vector<ContactNodeResult<dim>> &results) const
+  {
+    std::vector<dealii::Point<dim>> hot;
+    for (const auto &node : nodes)
+      if (node.directions.size() + node.fixed_normals.size() > 1)
+        hot.push_back(node.position);
+    for (const auto id : parameters.die_ids)
+      {
+        std::vector<const ContactNodeResult<dim> *> points;
+        for (const auto &r : results)
+          if (r.id == id)
+            points.push_back(&r);
+        const auto chain = along_the_wall(points);
+        for (unsigned int i = 1; i < chain.size(); ++i)
+          if (chain[i]->status != chain[i - 1]->status && chain[i]->position.distance(chain[i - 1]->position) > 0)
+            {
+              hot.push_back(chain[i]->position);
+              hot.push_back(chain[i - 1]->position);
+            }
+      }
+    return hot;
+  }
+
+
+
   template <int dim>
   void
   ContactSet<dim>::write_profiles(const std::vector<ContactNodeResult<dim>> &results,
@@ -662,26 +758,7 @@ namespace dieflow
             points.push_back(&r);
         if (points.empty())
           continue;
-        // Order along the wall: start at the point farthest from the
-        // centroid (an end of the wall), then always the nearest next point.
-        dealii::Point<dim> centroid;
-        for (const auto *p : points)
-          centroid += p->position / static_cast<double>(points.size());
-        std::vector<const ContactNodeResult<dim> *> chain;
-        auto start = std::max_element(points.begin(), points.end(), [&](auto a, auto b) {
-          return a->position.distance(centroid) < b->position.distance(centroid);
-        });
-        chain.push_back(*start);
-        points.erase(start);
-        while (!points.empty())
-          {
-            auto next = std::min_element(points.begin(), points.end(), [&](auto a, auto b) {
-              return a->position.distance(chain.back()->position) < b->position.distance(chain.back()->position);
-            });
-            chain.push_back(*next);
-            points.erase(next);
-          }
-
+        const auto chain = along_the_wall(points);
         std::ofstream out(directory + "/die-profile-" + std::to_string(id) + ".dat");
         out << "# die wall id " << id << ", ordered along the wall; forces per node over its boundary weight\n"
             << "# s(mm) x(mm) y(mm) contact_pressure(MPa) friction_stress(MPa) normal_velocity(mm/s) "
@@ -719,7 +796,7 @@ namespace dieflow
   }
 
   template <int dim>
-  unsigned int
+  AssemblyInfo
   assemble_with_contact(const FlowAssembler<dim> &        flow,
                         const ContactSet<dim> &           contact,
                         const DoFHandler<dim> &           dof_handler,
@@ -732,12 +809,21 @@ namespace dieflow
   {
     std::vector<ContactContribution<dim>> contributions;
     RowTransforms                         transforms;
+    AssemblyInfo                          info;
     if (!contact.empty())
       {
+        info.contact  = true;
         contributions = contact.contributions(v);
         for (const auto &c : contributions)
-          if (c.has_row_transform)
-            transforms.emplace(c.dofs[0], c.row_transform);
+          {
+            if (c.has_row_transform)
+              transforms.emplace(c.dofs[0], c.row_transform);
+            for (unsigned int a = 0; a < dim; ++a)
+              for (unsigned int b = 0; b < a; ++b)
+                if (std::abs(c.tangent(a, b) - c.tangent(b, a)) > 1e-12 * c.tangent.linfty_norm())
+                  info.symmetric = false;
+          }
+        info.symmetric = info.symmetric && transforms.empty();
       }
     if (matrix != nullptr)
       flow.assemble_system(dof_handler, v, update_constraints, linearization, *matrix, minus_residual, raw_residual, &transforms);
@@ -754,11 +840,11 @@ namespace dieflow
         else
           update_constraints.distribute_local_to_global(c.residual, dofs, minus_residual);
       }
-    return contact.empty() ? 0 : 1;
+    return info;
   }
 
   template class ContactSet<2>;
-  template unsigned int
+  template AssemblyInfo
   assemble_with_contact<2>(const FlowAssembler<2> &, const ContactSet<2> &, const DoFHandler<2> &,
                            const dealii::Vector<double> &, const AffineConstraints<double> &, const Linearization,
                            dealii::SparseMatrix<double> *, dealii::Vector<double> &, dealii::Vector<double> &);

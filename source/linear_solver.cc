@@ -1,9 +1,171 @@
 #include <dieflow/linear_solver.h>
 
-#include <stdexcept>
+#include <suitesparse/cholmod.h>
+#include <suitesparse/umfpack.h>
+
+#include <algorithm>
+#include <numeric>
 
 namespace dieflow
 {
+  /**
+   * The matrix in SuiteSparse's compressed-column form, with maps from
+   * deal.II's row-wise storage (the diagonal first in each row) to it, built
+   * once per sparsity pattern; and the factorisations.
+   */
+  struct LinearSolver::SuiteSparse
+  {
+    SuiteSparse()
+    {
+      cholmod_l_start(&common);
+      umfpack_dl_defaults(control);
+    }
+
+    ~SuiteSparse()
+    {
+      free_factorisations();
+      cholmod_l_finish(&common);
+    }
+
+    void
+    free_factorisations()
+    {
+      if (numeric != nullptr)
+        umfpack_dl_free_numeric(&numeric);
+      if (symbolic != nullptr)
+        umfpack_dl_free_symbolic(&symbolic);
+      if (factor != nullptr)
+        cholmod_l_free_factor(&factor, &common);
+      numeric = symbolic = nullptr;
+      factor             = nullptr;
+    }
+
+    /// Builds the column-compressed structure (full and lower triangle) and
+    /// the maps from the matrix's storage order, if the pattern is new.
+    void
+    analyse_pattern(const dealii::SparseMatrix<double> &matrix)
+    {
+      const auto &pattern = matrix.get_sparsity_pattern();
+      if (pattern_known && n == static_cast<long>(matrix.m()) && nnz == pattern.n_nonzero_elements())
+        return;
+      free_factorisations();
+      n   = matrix.m();
+      nnz = pattern.n_nonzero_elements();
+      // The pattern is structurally symmetric (finite element couplings), so
+      // column j of A has the rows of pattern row j.
+      Ap.assign(n + 1, 0);
+      Ai.clear();
+      Ai.reserve(nnz);
+      for (long j = 0; j < n; ++j)
+        {
+          std::vector<long> rows;
+          for (auto e = pattern.begin(j); e != pattern.end(j); ++e)
+            rows.push_back(e->column());
+          std::sort(rows.begin(), rows.end());
+          Ai.insert(Ai.end(), rows.begin(), rows.end());
+          Ap[j + 1] = Ai.size();
+        }
+      Lp.assign(n + 1, 0);
+      Li.clear();
+      for (long j = 0; j < n; ++j)
+        {
+          for (long k = Ap[j]; k < Ap[j + 1]; ++k)
+            if (Ai[k] >= j)
+              Li.push_back(Ai[k]);
+          Lp[j + 1] = Li.size();
+        }
+      // Entry (i, j) in storage order -> its place in column j.
+      full_place.resize(nnz);
+      lower_place.resize(nnz);
+      std::size_t p = 0;
+      for (long i = 0; i < n; ++i)
+        for (auto e = pattern.begin(i); e != pattern.end(i); ++e, ++p)
+          {
+            const long j  = e->column();
+            full_place[p] = std::lower_bound(Ai.begin() + Ap[j], Ai.begin() + Ap[j + 1], i) - Ai.begin();
+            lower_place[p] =
+              (i >= j) ? std::lower_bound(Li.begin() + Lp[j], Li.begin() + Lp[j + 1], i) - Li.begin() : -1;
+          }
+      Ax.resize(Ai.size());
+      Lx.resize(Li.size());
+      pattern_known = true;
+    }
+
+    void
+    copy_values(const dealii::SparseMatrix<double> &matrix)
+    {
+      std::size_t p = 0;
+      for (long i = 0; i < n; ++i)
+        for (auto e = matrix.begin(i); e != matrix.end(i); ++e, ++p)
+          {
+            Ax[full_place[p]] = e->value();
+            if (lower_place[p] >= 0)
+              Lx[lower_place[p]] = e->value();
+          }
+    }
+
+    bool
+    cholesky()
+    {
+      cholmod_sparse A;
+      A.nrow   = n;
+      A.ncol   = n;
+      A.nzmax  = Li.size();
+      A.p      = Lp.data();
+      A.i      = Li.data();
+      A.x      = Lx.data();
+      A.nz     = nullptr;
+      A.z      = nullptr;
+      A.stype  = -1; // symmetric, lower triangle stored
+      A.itype  = CHOLMOD_LONG;
+      A.xtype  = CHOLMOD_REAL;
+      A.dtype  = CHOLMOD_DOUBLE;
+      A.sorted = 1;
+      A.packed = 1;
+      if (factor == nullptr)
+        factor = cholmod_l_analyze(&A, &common);
+      if (factor == nullptr)
+        return false;
+      cholmod_l_factorize(&A, factor, &common);
+      return common.status == CHOLMOD_OK && factor->minor == static_cast<std::size_t>(n);
+    }
+
+    bool
+    lu()
+    {
+      double info[UMFPACK_INFO];
+      if (numeric != nullptr)
+        umfpack_dl_free_numeric(&numeric);
+      if (symbolic == nullptr &&
+          umfpack_dl_symbolic(n, n, Ap.data(), Ai.data(), Ax.data(), &symbolic, control, info) != UMFPACK_OK)
+        return false;
+      return umfpack_dl_numeric(Ap.data(), Ai.data(), Ax.data(), symbolic, &numeric, control, info) == UMFPACK_OK;
+    }
+
+    long                     n = 0;
+    std::size_t              nnz = 0;
+    bool                     pattern_known = false;
+    std::vector<long>        Ap, Ai, Lp, Li;
+    std::vector<double>      Ax, Lx;
+    std::vector<long>        full_place, lower_place;
+    cholmod_common           common;
+    cholmod_factor *         factor   = nullptr;
+    void *                   symbolic = nullptr;
+    void *                   numeric  = nullptr;
+    double                   control[UMFPACK_CONTROL];
+    bool                     last_was_cholesky = false;
+  };
+
+
+
+  LinearSolver::LinearSolver()
+    : suitesparse(std::make_unique<SuiteSparse>())
+  {}
+
+  LinearSolver::~LinearSolver() = default;
+
+
+
   void
   LinearSolver::declare_parameters(ParameterHandler &prm)
   {
@@ -11,8 +173,15 @@ namespace dieflow
     prm.declare_entry("Method",
                       "direct",
                       dealii::Patterns::Selection("direct"),
-                      "direct: sparse LU factorisation (UMFPACK), robust for any "
-                      "penalty and any friction state.");
+                      "direct: sparse factorisation (SuiteSparse), robust for any "
+                      "penalty and any friction state; its ordering and symbolic "
+                      "factorisation are reused by every iteration on a mesh.");
+    prm.declare_entry("Direct solver",
+                      "auto",
+                      dealii::Patterns::Selection("auto|UMFPACK"),
+                      "auto: CHOLMOD's Cholesky factorisation for symmetric systems "
+                      "(no slipping Coulomb friction), UMFPACK's LU otherwise. "
+                      "UMFPACK: LU always.");
     prm.leave_subsection();
   }
 
@@ -22,26 +191,32 @@ namespace dieflow
   LinearSolver::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Linear solver");
-    method = prm.get("Method");
+    method        = prm.get("Method");
+    direct_solver = prm.get("Direct solver");
     prm.leave_subsection();
   }
 
 
 
   void
-  LinearSolver::factorize(const dealii::SparseMatrix<double> &matrix)
+  LinearSolver::reset()
   {
-    try
-      {
-        direct.initialize(matrix);
-      }
-    catch (const std::exception &)
-      {
-        // UMFPACK's own text is a page of generic advice; what matters here
-        // is that the Jacobian is singular (or memory ran out).
-        throw SolverFailure("the sparse direct solver (UMFPACK) could not factorise the "
-                            "linearised system: it is singular, or memory ran out");
-      }
+    suitesparse->free_factorisations();
+    suitesparse->pattern_known = false;
+  }
+
+
+
+  void
+  LinearSolver::factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric)
+  {
+    auto &s = *suitesparse;
+    s.analyse_pattern(matrix);
+    s.copy_values(matrix);
+    s.last_was_cholesky = symmetric && direct_solver == "auto" && s.cholesky();
+    if (!s.last_was_cholesky && !s.lu())
+      throw SolverFailure("the sparse direct solver (UMFPACK) could not factorise the "
+                          "linearised system: it is singular, or memory ran out");
   }
 
 
@@ -49,7 +224,37 @@ namespace dieflow
   void
   LinearSolver::solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution)
   {
-    solution = rhs;
-    direct.solve(solution);
+    auto &s = *suitesparse;
+    solution.reinit(rhs.size());
+    if (s.last_was_cholesky)
+      {
+        cholmod_dense b;
+        b.nrow  = s.n;
+        b.ncol  = 1;
+        b.nzmax = s.n;
+        b.d     = s.n;
+        b.x     = const_cast<double *>(rhs.begin());
+        b.z     = nullptr;
+        b.xtype = CHOLMOD_REAL;
+        b.dtype = CHOLMOD_DOUBLE;
+        cholmod_dense *x = cholmod_l_solve(CHOLMOD_A, s.factor, &b, &s.common);
+        if (x == nullptr)
+          throw SolverFailure("CHOLMOD could not solve with its factorisation");
+        std::copy(static_cast<double *>(x->x), static_cast<double *>(x->x) + s.n, solution.begin());
+        cholmod_l_free_dense(&x, &s.common);
+        return;
+      }
+    double info[UMFPACK_INFO];
+    if (umfpack_dl_solve(UMFPACK_A, s.Ap.data(), s.Ai.data(), s.Ax.data(), solution.begin(), rhs.begin(),
+                         s.numeric, s.control, info) < 0)
+      throw SolverFailure("UMFPACK could not solve with its factorisation");
+  }
+
+
+
+  std::string
+  LinearSolver::last_solver() const
+  {
+    return suitesparse->last_was_cholesky ? "CHOLMOD" : "UMFPACK";
   }
 } // namespace dieflow

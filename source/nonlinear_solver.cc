@@ -36,7 +36,7 @@ namespace dieflow
                       "Converged when ||R|| / ||reactions|| falls below this: the "
                       "out-of-balance force of the free dofs relative to the "
                       "forces the boundaries exert. Never below the round-off "
-                      "floor that the penalty leaves, about 3e-17 x penalty "
+                      "floor that the penalty leaves, about 6e-17 x penalty "
                       "factor x sqrt(dofs).");
     prm.declare_entry("Update tolerance",
                       "1e-8",

@@ -73,6 +73,14 @@ namespace dieflow
     for (auto it = summary.stage_wall_time.begin(); it != summary.stage_wall_time.end(); ++it)
       out << (it == summary.stage_wall_time.begin() ? "" : ", ") << string(it->first) << ": "
           << number(it->second);
+    out << "},\n"
+        << "  \"extrapolated\": {";
+    for (unsigned int i = 0; i < summary.extrapolated.size(); ++i)
+      {
+        const auto &[name, value, error, order] = summary.extrapolated[i];
+        out << (i == 0 ? "" : ", ") << string(name) << ": {\"value\": " << number(value)
+            << ", \"error\": " << number(error) << ", \"order\": " << number(order) << "}";
+      }
     out << "},\n";
     if (!summary.failure.empty())
       out << "  \"failure\": " << string(summary.failure) << ",\n";
@@ -104,8 +112,16 @@ namespace dieflow
             << "      \"contact_checks\": {\"penetration\": " << number(s.contact_penetration)
             << ", \"tension\": " << number(s.contact_tension) << ", \"friction_excess\": "
             << number(s.friction_excess) << ", \"stick_slip_rate\": " << number(s.stick_slip_rate)
-            << ", \"separated_reaction\": " << number(s.separated_reaction) << "},\n"
+            << ", \"separated_reaction\": " << number(s.separated_reaction)
+            << ", \"friction_power\": " << number(s.friction_power) << "},\n"
             << "      \"divergence_ratio\": " << number(s.divergence_ratio) << ",\n"
+            << "      \"quantities\": {";
+        for (unsigned int q = 0; q < s.quantities.size(); ++q)
+          out << (q == 0 ? "" : ", ") << string(s.quantities[q].first) << ": " << number(s.quantities[q].second);
+        out << "},\n"
+            << "      \"error_estimate\": " << number(s.error_estimate)
+            << ", \"die_cell_share\": " << number(s.die_cell_share)
+            << ", \"start_distance\": " << number(s.start_distance) << ",\n"
             << "      \"velocity_l2_error\": " << optional_number(s.velocity_l2_error)
             << ", \"velocity_h1_error\": " << optional_number(s.velocity_h1_error) << ",\n"
             << "      \"penalty\": " << number(s.penalty)

@@ -5,7 +5,8 @@
 // no body force), and, with contact, no penetration and no pulling die
 // (within the active set's dead band: 1e-6 of the largest normal force, so
 // a penetration rate of 1e-6 of the largest speed), friction within its
-// bound, sticking nodes at rest (1e-8 of the largest speed).
+// bound and opposing the slip, sticking nodes at rest (1e-8 of the largest
+// speed).
 #include <dieflow/run.h>
 
 #include "report.h"
@@ -50,7 +51,8 @@ main()
       const double force_scale = std::abs(c.boundary_force.at(1)[0]) + std::abs(c.boundary_force.at(1)[1]);
       const bool   ok = summary.converged && c.divergence_ratio < 1e-5 && std::abs(flux) < 5e-5 * inflow &&
                       std::abs(fx) + std::abs(fy) < 1e-8 * force_scale && c.contact_penetration < 1e-6 &&
-                      c.contact_tension < 1e-6 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8;
+                      c.contact_tension < 1e-6 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8 &&
+                      c.friction_power < 1e-12;
       report(deck.filename().string() + " runs and keeps its laws", ok);
     }
     catch (const std::exception &exc)

@@ -103,9 +103,10 @@ namespace dieflow
    * non-symmetric linearisation of that dependence.
    *
    * States are decided in update() and frozen while an iteration assembles
-   * and searches its line. A state signature that repeats (cycling) freezes
-   * the nodes that keep changing at their pressing, slipping state, and the
-   * log says so.
+   * and searches its line. A state signature that repeats (cycling) holds
+   * the directions that keep entering and leaving contact in contact, and
+   * gives those that keep switching between stick and slip the regularised
+   * Coulomb law; the log says so.
    */
   template <int dim>
   class ContactSet
@@ -181,6 +182,14 @@ namespace dieflow
     void
     write_profiles(const std::vector<ContactNodeResult<dim>> &results, const std::string &directory) const;
 
+    /**
+     * Where the die needs a fine mesh: the corners (nodes with more than one
+     * wall direction) and the nodes whose state differs from the next
+     * node's along the wall (stick turning to slip, contact opening).
+     */
+    std::vector<dealii::Point<dim>>
+    hot_points(const std::vector<ContactNodeResult<dim>> &results) const;
+
     /// Status per vertex of @p dof_handler's triangulation (0 separated,
     /// 1 stick, 2 slip; -1 elsewhere) for the VTU.
     dealii::Vector<double>
@@ -209,7 +218,12 @@ namespace dieflow
       double              stick_force;
       /// n.R_flow at a separated direction: zero at equilibrium.
       double              free_reaction;
-      bool                frozen;
+      /// How often the slip direction reversed in this cycle.
+      unsigned int        reversals;
+      /// Cycling: the direction stays in contact from now on...
+      bool                held_in_contact;
+      /// ... or its friction law becomes the regularised one.
+      bool                regularised;
     };
     struct Node
     {
@@ -262,10 +276,19 @@ namespace dieflow
    * the row transformations of the slipping contact nodes, then the contact
    * elements' own residuals and tangents (the slave's block: the die is
    * rigid), condensed with @p update_constraints. Without @p matrix, the
-   * residual only. Returns 1 if contact terms were assembled, else 0.
+   * residual only.
    */
+  struct AssemblyInfo
+  {
+    /// Contact terms were assembled.
+    bool contact = false;
+    /// The Jacobian is symmetric (no slipping friction's row transformation
+    /// or non-symmetric element tangent).
+    bool symmetric = true;
+  };
+
   template <int dim>
-  unsigned int
+  AssemblyInfo
   assemble_with_contact(const FlowAssembler<dim> &        flow,
                         const ContactSet<dim> &           contact,
                         const DoFHandler<dim> &           dof_handler,

@@ -9,6 +9,8 @@
 #include <dieflow/material.h>
 #include <dieflow/nonlinear_solver.h>
 #include <dieflow/parameters.h>
+#include <dieflow/refinement.h>
+#include <dieflow/study.h>
 #include <dieflow/summary.h>
 #include <dieflow/wall_nodes.h>
 
@@ -22,6 +24,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <memory>
+#include <optional>
 #include <ostream>
 
 namespace dieflow
@@ -31,18 +34,6 @@ namespace dieflow
   {
     unsigned int         dimension = 2;
     std::set<BoundaryId> velocity_ids{1};
-  };
-
-  /// The deck's "Refinement" subsection.
-  struct RefinementParameters
-  {
-    unsigned int cycles   = 1;
-    std::string  strategy = "global";
-
-    static void
-    declare_parameters(ParameterHandler &prm);
-    void
-    parse_parameters(ParameterHandler &prm);
   };
 
   /**
@@ -132,6 +123,8 @@ namespace dieflow
     /// False until the first solve of a run: the contact states are then
     /// judged from a velocity that solves something.
     bool                                       contact_states_valid = false;
+    /// True for the first iterate of a refined mesh (see update_state()).
+    bool                                       states_from_previous_mesh = false;
     unsigned int                               contact_assemblies   = 0;
     std::unique_ptr<dealii::FunctionParser<dim>> exact_velocity;
 
@@ -156,11 +149,18 @@ namespace dieflow
     Vector<double>               raw_residual;
 
     FlowAssembler<dim> assembler;
+    /// Whether the last assembled Jacobian is symmetric (CHOLMOD applies).
+    bool               matrix_symmetric = true;
     double             mean_viscosity = 0;
     unsigned int       start_solves   = 0;
     double             prescribed_speed = 0;
 
     std::vector<std::pair<double, std::string>> pvd_records;
+    StudyTable                                  study;
+    /// Where the velocity is reported as a quantity of interest (if any).
+    std::optional<dealii::Point<dim>>           probe;
+    /// The contact results of the last cycle, for the die criterion.
+    std::vector<ContactNodeResult<dim>>         contact_results;
   };
 } // namespace dieflow
 

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <optional>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -46,10 +47,25 @@ namespace dieflow
     double stick_slip_rate     = 0;
     /// Largest normal reaction at a separated node over the largest normal force.
     double separated_reaction  = 0;
+    /// Largest power F_t v.t > 0 of a friction force that drives its slip
+    /// instead of opposing it, over (largest |F_t|) x (largest speed).
+    double friction_power      = 0;
     /// ||div v||_L2 / ||grad v||_L2, div v at the cell centres.
     double                divergence_ratio = 0;
     std::optional<double> velocity_l2_error;
     std::optional<double> velocity_h1_error;
+    /// The quantities of interest, in a fixed order: the force along x on
+    /// each prescribed-velocity part (F_x[1] is die2d's ram force), the die
+    /// normal and friction forces per contact id, the velocity at the probe.
+    std::vector<std::pair<std::string, double>> quantities;
+    /// ||v_start - v|| / ||v|| (dof vectors): how far the cycle's first
+    /// iterate (the Newtonian start, or the previous cycle's solution
+    /// transferred to this mesh) was from its solution.
+    double start_distance = 0;
+    /// Kelly's global estimate of the velocity error, sqrt(sum eta_K^2).
+    double error_estimate = 0;
+    /// Share of the cells with a face on a contact id.
+    double die_cell_share = 0;
     /// The penalty lambda and the mean viscosity it was made from.
     double penalty           = 0;
     double mean_viscosity    = 0;
@@ -67,6 +83,8 @@ namespace dieflow
     std::map<std::string, double> stage_wall_time;
     /// Peak resident memory of the process (MB).
     double peak_memory_mb = 0;
+    /// Richardson estimates of the quantities: name, value, error, order.
+    std::vector<std::tuple<std::string, double, double, double>> extrapolated;
   };
 
   /// Writes @p summary as JSON (the summary.json contract of interface.md).

@@ -80,6 +80,11 @@ namespace
         cycle["friction_excess"]     = s.friction_excess;
         cycle["stick_slip_rate"]     = s.stick_slip_rate;
         cycle["separated_reaction"]  = s.separated_reaction;
+        cycle["friction_power"]      = s.friction_power;
+        cycle["die_cell_share"]      = s.die_cell_share;
+        cycle["error_estimate"]      = s.error_estimate;
+        cycle["start_distance"]      = s.start_distance;
+        cycle["first_residual"]      = s.history.empty() ? nan : s.history.front().residual;
         cycle["l2_error"]           = s.velocity_l2_error.value_or(nan);
         cycle["h1_error"]           = s.velocity_h1_error.value_or(nan);
         cycle["newton_order"]       = newton_order(s);

@@ -1,0 +1,85 @@
+#ifndef dieflow_refinement_h
+#define dieflow_refinement_h
+
+#include <dieflow/parameters.h>
+
+#include <deal.II/base/point.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/vector.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace dieflow
+{
+  /// The deck's "Refinement" subsection.
+  struct RefinementParameters
+  {
+    unsigned int cycles          = 1;
+    std::string  strategy        = "global";
+    std::string  indicator       = "combined";
+    std::string  marking         = "fixed fraction";
+    double       refine_fraction  = 0.3;
+    double       coarsen_fraction = 0;
+    double       die_band        = 0;
+    double       die_weight      = 1;
+    unsigned int maximum_cells   = 0;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /**
+   * Where the die needs cells, for the die criterion: the die's boundary ids
+   * and the points where its solution is singular or changes character (the
+   * die's corners, and the nodes where stick turns to slip or contact
+   * opens).
+   */
+  template <int dim>
+  struct DieFeatures
+  {
+    std::set<BoundaryId>            ids;
+    std::vector<dealii::Point<dim>> hot_points;
+  };
+
+  /**
+   * The error indicator per cell that the marking uses:
+   *  - "kelly": eta_K, deal.II's Kelly estimator of the velocity (the jump
+   *    of the normal derivative over the cell's faces);
+   *  - "die": chi_K |K|, with chi_K = 2 for a cell with a hot point (a die
+   *    corner, a stick-slip or contact-opening node) among its vertices,
+   *    1 for a cell touching the die or within the die band, 0 elsewhere;
+   *    the largest such cells are refined first;
+   *  - "combined": eta_K (1 + w chi_K), the Kelly estimate weighted up at
+   *    the die by the die weight w.
+   */
+  template <int dim>
+  dealii::Vector<float>
+  refinement_indicators(const RefinementParameters &    parameters,
+                        const dealii::DoFHandler<dim> & dof_handler,
+                        const dealii::Vector<double> &  velocity,
+                        const DieFeatures<dim> &        die);
+
+  /// Kelly's global estimate, sqrt(sum_K eta_K^2).
+  template <int dim>
+  double
+  kelly_estimate(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity);
+
+  /// Sets the refine and coarsen flags of the triangulation from @p indicators.
+  template <int dim>
+  void
+  mark_cells(const RefinementParameters & parameters,
+             const dealii::Vector<float> &indicators,
+             dealii::Triangulation<dim> & triangulation);
+
+  /// Share of the active cells that have a face on one of @p ids.
+  template <int dim>
+  double
+  share_of_cells_at(const dealii::Triangulation<dim> &triangulation, const std::set<BoundaryId> &ids);
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,220 @@
+#include <dieflow/refinement.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe.h>
+#include <deal.II/grid/grid_refinement.h>
+#include <deal.II/numerics/error_estimator.h>
+
+#include <cmath>
+#include <map>
+
+namespace dieflow
+{
+  void
+  RefinementParameters::declare_parameters(ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Refinement");
+    prm.declare_entry("Cycles",
+                      "1",
+                      Integer(1, 40),
+                      "Number of solve-refine cycles; each cycle starts from the "
+                      "previous solution transferred to the new mesh, and the study "
+                      "table has a row per cycle.");
+    prm.declare_entry("Strategy",
+                      "global",
+                      Selection("global|adaptive"),
+                      "global: refine every cell between cycles. adaptive: refine "
+                      "(and coarsen) the cells the indicator marks.");
+    prm.declare_entry("Indicator",
+                      "combined",
+                      Selection("kelly|die|combined"),
+                      "kelly: deal.II's Kelly estimator of the velocity. die: cells "
+                      "at the die (touching the contact ids or within the die band), "
+                      "twice as strongly at its corners and where stick turns to "
+                      "slip or contact opens, largest first. combined: Kelly "
+                      "weighted up at the die by (1 + die weight x die criterion).");
+    prm.declare_entry("Marking",
+                      "fixed fraction",
+                      Selection("fixed fraction|fixed number"),
+                      "fixed fraction: refine the cells that carry the Refine "
+                      "fraction of the total indicator (coarsen those that carry the "
+                      "Coarsen fraction). fixed number: refine that fraction of the "
+                      "cells (coarsen that fraction), largest indicators first.");
+    prm.declare_entry("Refine fraction",
+                      "0.3",
+                      Double(0, 1),
+                      "Fraction for the marking (see Marking).");
+    prm.declare_entry("Coarsen fraction",
+                      "0",
+                      Double(0, 1),
+                      "Fraction for coarsening (0: none).");
+    prm.declare_entry("Die band",
+                      "0",
+                      Double(0),
+                      "Width (mm) of the band along the die whose cells the die "
+                      "criterion marks; 0: the cells touching the die.");
+    prm.declare_entry("Die weight",
+                      "1",
+                      Double(0),
+                      "Weight w of the die criterion in the combined indicator.");
+    prm.declare_entry("Maximum cells",
+                      "0",
+                      Integer(0),
+                      "Stop refining beyond about this many cells (0: no limit).");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  RefinementParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Refinement");
+    cycles           = prm.get_integer("Cycles");
+    strategy         = prm.get("Strategy");
+    indicator        = prm.get("Indicator");
+    marking          = prm.get("Marking");
+    refine_fraction  = prm.get_double("Refine fraction");
+    coarsen_fraction = prm.get_double("Coarsen fraction");
+    die_band         = prm.get_double("Die band");
+    die_weight       = prm.get_double("Die weight");
+    maximum_cells    = prm.get_integer("Maximum cells");
+    require(refine_fraction + coarsen_fraction <= 1,
+            "Refinement/Coarsen fraction",
+            "and Refine fraction together exceed 1");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  double
+  kelly_estimate(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity)
+  {
+    dealii::Vector<float> eta(dof_handler.get_triangulation().n_active_cells());
+    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(2), {}, velocity, eta);
+    return eta.l2_norm();
+  }
+
+
+
+  namespace
+  {
+    /// chi_K of the die criterion.
+    template <int dim>
+    dealii::Vector<float>
+    die_criterion(const RefinementParameters &   parameters,
+                  const dealii::Triangulation<dim> &triangulation,
+                  const DieFeatures<dim> &       die)
+    {
+      dealii::Vector<float> chi(triangulation.n_active_cells());
+      if (die.ids.empty())
+        return chi;
+
+      // Vertices of the die faces, for the band test.
+      std::vector<dealii::Point<dim>> die_points;
+      for (const auto &face : triangulation.active_face_iterators())
+        if (face->at_boundary() && die.ids.count(face->boundary_id()))
+          die_points.push_back(face->center());
+
+      for (const auto &cell : triangulation.active_cell_iterators())
+        {
+          float value = 0;
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary() && die.ids.count(cell->face(f)->boundary_id()))
+              value = 1;
+          if (value == 0 && parameters.die_band > 0)
+            for (const auto &p : die_points)
+              if (cell->center().distance(p) <= parameters.die_band)
+                {
+                  value = 1;
+                  break;
+                }
+          for (const unsigned int v : cell->vertex_indices())
+            for (const auto &hot : die.hot_points)
+              if (cell->vertex(v).distance(hot) < 1e-9 * cell->diameter())
+                value = 2;
+          chi[cell->active_cell_index()] = value;
+        }
+      return chi;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  dealii::Vector<float>
+  refinement_indicators(const RefinementParameters &   parameters,
+                        const dealii::DoFHandler<dim> &dof_handler,
+                        const dealii::Vector<double> & velocity,
+                        const DieFeatures<dim> &       die)
+  {
+    const auto &          triangulation = dof_handler.get_triangulation();
+    dealii::Vector<float> indicator(triangulation.n_active_cells());
+    const auto            chi = die_criterion(parameters, triangulation, die);
+    if (parameters.indicator == "die")
+      {
+        for (const auto &cell : triangulation.active_cell_iterators())
+          indicator[cell->active_cell_index()] = chi[cell->active_cell_index()] * cell->measure();
+        return indicator;
+      }
+    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(2), {}, velocity, indicator);
+    if (parameters.indicator == "combined")
+      for (unsigned int i = 0; i < indicator.size(); ++i)
+        indicator[i] *= 1 + parameters.die_weight * chi[i];
+    return indicator;
+  }
+
+
+
+  template <int dim>
+  void
+  mark_cells(const RefinementParameters & parameters,
+             const dealii::Vector<float> &indicators,
+             dealii::Triangulation<dim> & triangulation)
+  {
+    const unsigned int max_cells =
+      parameters.maximum_cells > 0 ? parameters.maximum_cells : std::numeric_limits<unsigned int>::max();
+    if (parameters.marking == "fixed fraction")
+      dealii::GridRefinement::refine_and_coarsen_fixed_fraction(
+        triangulation, indicators, parameters.refine_fraction, parameters.coarsen_fraction, max_cells);
+    else
+      dealii::GridRefinement::refine_and_coarsen_fixed_number(
+        triangulation, indicators, parameters.refine_fraction, parameters.coarsen_fraction, max_cells);
+    // A cell the indicator does not point at at all is not refined (the die
+    // criterion is zero away from the die, and a fixed number of cells would
+    // otherwise take such cells too).
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (indicators[cell->active_cell_index()] == 0)
+        cell->clear_refine_flag();
+  }
+
+
+
+  template <int dim>
+  double
+  share_of_cells_at(const dealii::Triangulation<dim> &triangulation, const std::set<BoundaryId> &ids)
+  {
+    unsigned int at = 0;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() && ids.count(cell->face(f)->boundary_id()))
+          {
+            ++at;
+            break;
+          }
+    return static_cast<double>(at) / triangulation.n_active_cells();
+  }
+
+  template struct DieFeatures<2>;
+  template dealii::Vector<float>
+  refinement_indicators<2>(const RefinementParameters &, const dealii::DoFHandler<2> &,
+                           const dealii::Vector<double> &, const DieFeatures<2> &);
+  template double
+  kelly_estimate<2>(const dealii::DoFHandler<2> &, const dealii::Vector<double> &);
+  template void
+  mark_cells<2>(const RefinementParameters &, const dealii::Vector<float> &, dealii::Triangulation<2> &);
+  template double
+  share_of_cells_at<2>(const dealii::Triangulation<2> &, const std::set<BoundaryId> &);
+} // namespace dieflow
