@@ -156,6 +156,25 @@ namespace dieflow
 
 
   template <int dim>
+  std::string
+  ContactSet<dim>::cycling_note() const
+  {
+    unsigned int held = 0, regularised = 0;
+    for (const auto &node : nodes)
+      for (const auto &dir : node.directions)
+        {
+          held += dir.held_in_contact;
+          regularised += dir.regularised;
+        }
+    if (held + regularised == 0)
+      return "";
+    return "the states cycled: " + std::to_string(held) + " direction(s) held in contact, " +
+           std::to_string(regularised) + " friction law(s) regularised";
+  }
+
+
+
+  template <int dim>
   double
   ContactSet<dim>::friction_coefficient(const BoundaryId id) const
   {
@@ -196,7 +215,7 @@ namespace dieflow
     law.shear_bound             = (m == parameters.tresca_factor.end() ? 0. : m->second) *
                       parameters.shear_flow_stress * direction.wall.weight;
     law.tangential_penalty      = penalty_of(parameters.tangential_penalty_factor, direction.wall.weight);
-    law.regularisation_velocity = parameters.regularisation_velocity;
+    law.regularisation_velocity = direction.regularised ? cycling_velocity : parameters.regularisation_velocity;
     return law;
   }
 
@@ -449,8 +468,8 @@ namespace dieflow
               state = std::make_pair(ContactStatus::stick, dir.sign);
             if (dir.regularised)
               {
-                // A smooth law has no states to settle: only the label.
-                dir.status = state.first;
+                // A smooth law has no stick and no states to settle.
+                dir.status = dir.active ? ContactStatus::slip : ContactStatus::separated;
                 continue;
               }
             // A direction that enters or leaves contact changed its normal
@@ -485,11 +504,14 @@ namespace dieflow
             dir.active          = true;
             dir.held_in_contact = true;
           }
+        // v0: a hundredth of the largest speed, so that Newton can follow
+        // the smooth law.
+        cycling_velocity = std::max(parameters.regularisation_velocity, 0.01 * v.linfty_norm());
         for (const auto &[i, k] : changed_tangential)
           nodes[i].directions[k].regularised = true;
         log << "    contact states cycle: " << changed_normal.size() << " direction(s) held in contact, "
-            << changed_tangential.size() << " friction law(s) regularised (arctan, v0 = "
-            << parameters.regularisation_velocity << " mm/s)" << std::endl;
+            << changed_tangential.size() << " friction law(s) regularised (arctan, v0 = " << cycling_velocity
+            << " mm/s)" << std::endl;
       }
     recent_signatures.push_back(signature);
     if (recent_signatures.size() > 12)

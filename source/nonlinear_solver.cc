@@ -118,12 +118,15 @@ namespace dieflow
                                     const double                  residual) const
   {
     // g(a) = du . R(v + a du) is the slope of the dissipation potential along
-    // du (for frictionless problems, which minimise it); g(0) < 0 for a
-    // descent direction. A step is accepted when the potential has surely
-    // decreased (g(a) <= |g(0)|/2, its linear model), or when the residual
-    // norm has (Armijo), which covers the non-variational friction terms.
+    // du (for problems with a symmetric Jacobian, which minimise it); g(0) < 0
+    // for a descent direction. A step is accepted when the potential has
+    // surely decreased (g(a) <= |g(0)|/2, its linear model), or when the
+    // residual norm has (Armijo), the only test for non-variational friction.
     // Otherwise the step shrinks to the secant root of g, within [a/10, a/2].
     const double           g0 = -(update * system.minus_residual());
+    // Only a symmetric Jacobian is the Hessian of a potential whose slope g
+    // measures descent; slipping friction is not variational.
+    const bool variational = system.jacobian_is_symmetric();
     dealii::Vector<double> minus_residual(v.size());
     double                 step = 1;
     for (unsigned int i = 0; i < maximum_line_search_steps; ++i)
@@ -133,7 +136,7 @@ namespace dieflow
         const double r = system.residual(trial, minus_residual);
         const double g = -(update * minus_residual);
         if (std::isfinite(r) && std::isfinite(g) &&
-            ((g0 < 0 && g <= 0.5 * std::abs(g0)) || r <= (1. - 1e-4 * step) * residual))
+            ((variational && g0 < 0 && g <= 0.5 * std::abs(g0)) || r <= (1. - 1e-4 * step) * residual))
           return step;
         const double secant = (g0 < 0 && g > g0) ? step * g0 / (g0 - g) : 0.5 * step;
         step                = std::min(0.5 * step, std::max(0.1 * step, secant));
@@ -184,12 +187,27 @@ namespace dieflow
           {
             std::ostringstream why;
             why << "no convergence in " << maximum_iterations << " iterations (relative residual "
-                << std::scientific << std::setprecision(2) << residual
-                << "); raise Nonlinear solver/Maximum iterations, or try Method = Picard then Newton";
+                << std::scientific << std::setprecision(2) << residual << ")";
+            StateChanges recent;
+            for (unsigned int i = result.history.size() > 5 ? result.history.size() - 5 : 0;
+                 i < result.history.size();
+                 ++i)
+              {
+                recent.normal += result.history[i].state_changes.normal;
+                recent.tangential += result.history[i].state_changes.tangential;
+              }
+            const std::string contact = system.state_note();
+            if (recent.total() > 0 || !contact.empty())
+              why << "; the contact did not settle (" << recent.normal << " active-set and "
+                  << recent.tangential << " stick/slip changes in the last five iterations"
+                  << (contact.empty() ? "" : "; " + contact)
+                  << "): refine the mesh at the die, or use Contact/Friction law = Tresca or "
+                     "regularised Coulomb, or a smaller friction coefficient";
+            else
+              why << "; raise Nonlinear solver/Maximum iterations, or try Method = Picard then Newton";
             result.failure = why.str();
             return result;
           }
-
         const auto solved = [&]() {
           try
             {
@@ -229,24 +247,28 @@ namespace dieflow
                 step = 1;
               }
           }
-        // A trust bound: metal does not move ten times faster than anything
-        // the deck prescribes; a longer Newton step is an overshoot.
+        // A trust bound: no update changes a velocity by more than a hundred
+        // times the larger of the largest prescribed speed and the current
+        // largest speed (a 95% reduction makes the metal 20 times faster
+        // than the ram); a longer Newton step is an overshoot.
         const double scale = system.velocity_scale();
-        if (scale > 0 && step * update.linfty_norm() > 10 * scale)
+        const double bound = 100 * std::max(scale, v.linfty_norm());
+        if (scale > 0 && step * update.linfty_norm() > bound)
           {
-            step = 10 * scale / update.linfty_norm();
-            log << "    update limited to ten times the largest prescribed speed (step " << std::fixed
-                << std::setprecision(3) << step << ")" << std::defaultfloat << std::endl;
+            step = bound / update.linfty_norm();
+            log << "    update limited to a hundred times the larger of the prescribed and the current "
+                   "largest speed (step "
+                << std::fixed << std::setprecision(3) << step << ")" << std::defaultfloat << std::endl;
           }
         system.accept_step(v, update, step, linearization);
         v.add(step, update);
         last_update = step * update.l2_norm() / std::max(v.l2_norm(), 1e-300);
         last_step   = step;
-        if (!std::isfinite(last_update) || (scale > 0 && v.linfty_norm() > 1e3 * scale))
+        if (!std::isfinite(last_update) || (scale > 0 && v.linfty_norm() > 1e4 * scale))
           {
             std::ostringstream why;
             why << "the iteration diverges at iteration " << k + 1
-                << ": the velocity exceeds a thousand times the largest prescribed speed; use "
+                << ": the velocity exceeds ten thousand times the largest prescribed speed; use "
                    "Newton tangent = primal-dual, or Method = Picard then Newton";
             result.failure    = why.str();
             result.iterations = k + 1;

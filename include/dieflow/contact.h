@@ -195,6 +195,10 @@ namespace dieflow
     dealii::Vector<double>
     vertex_status(const DoFHandler<dim> &dof_handler) const;
 
+    /// "" or what the cycling guard did in this cycle.
+    std::string
+    cycling_note() const;
+
     /// Friction coefficient of a die id (0 if none given).
     double
     friction_coefficient(const BoundaryId id) const;
@@ -268,6 +272,8 @@ namespace dieflow
     std::vector<Node>          nodes;
     double                     viscosity_scale = 1;
     double                     penalty_scale   = 1;
+    /// v0 of the friction laws regularised because their states cycled.
+    double                     cycling_velocity = 1;
     std::vector<std::size_t>   recent_signatures;
   };
 

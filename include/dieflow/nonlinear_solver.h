@@ -60,6 +60,21 @@ namespace dieflow
       return 0;
     }
 
+    /// Whether the last assembled Jacobian is symmetric (the problem then
+    /// minimises a potential).
+    virtual bool
+    jacobian_is_symmetric() const
+    {
+      return true;
+    }
+
+    /// What the state did that a failure message should mention (empty: nothing).
+    virtual std::string
+    state_note() const
+    {
+      return "";
+    }
+
     /// The largest prescribed speed: updates far above it are not trusted.
     virtual double
     velocity_scale() const
@@ -121,9 +136,10 @@ namespace dieflow
    * smaller than 1e-6 ||v|| are taken whole (the quadratic regime). A Newton step that
    * the line search cannot make reduce the residual is replaced by a Picard
    * step (the Picard matrix is positive definite). No update may change a
-   * velocity by more than ten times the largest prescribed speed (a longer
-   * step is shortened, and the log says so), and an iterate faster than a
-   * thousand times that speed ends the run: the iteration diverges.
+   * velocity by more than a hundred times the larger of the largest
+   * prescribed speed and the current largest speed (a longer step is
+   * shortened, and the log says so), and an iterate faster than ten
+   * thousand times the prescribed speed ends the run: it diverges.
    */
   class NonlinearSolver
   {

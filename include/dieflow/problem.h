@@ -77,6 +77,16 @@ namespace dieflow
     {
       return prescribed_speed;
     }
+    std::string
+    state_note() const override
+    {
+      return contact.cycling_note();
+    }
+    bool
+    jacobian_is_symmetric() const override
+    {
+      return matrix_symmetric;
+    }
     void
     accept_step(const Vector<double> &v,
                 const Vector<double> &update,

@@ -200,6 +200,9 @@ main(int argc, char **argv)
       const auto label      = check.substr(0, colon);
       const auto expression = check.substr(colon + 1);
       std::string verdict;
+      // deal.II's muparser wrapper writes parse errors to std::cerr too.
+      std::ostringstream muted;
+      std::streambuf *   cerr_buffer = std::cerr.rdbuf(muted.rdbuf());
       try
         {
           dealii::FunctionParser<1> parser(1);
@@ -211,6 +214,7 @@ main(int argc, char **argv)
         {
           verdict = "cannot evaluate: " + one_line_message(exc);
         }
+      std::cerr.rdbuf(cerr_buffer);
       std::cout << "check " << label << ": " << verdict << std::endl;
     }
   return 0;
