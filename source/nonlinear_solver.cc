@@ -189,6 +189,7 @@ namespace dieflow
             why << "no convergence in " << maximum_iterations << " iterations (relative residual "
                 << std::scientific << std::setprecision(2) << residual << ")";
             StateChanges recent;
+            bool         still_changing = result.history.size() >= 3;
             for (unsigned int i = result.history.size() > 5 ? result.history.size() - 5 : 0;
                  i < result.history.size();
                  ++i)
@@ -196,8 +197,12 @@ namespace dieflow
                 recent.normal += result.history[i].state_changes.normal;
                 recent.tangential += result.history[i].state_changes.tangential;
               }
+            for (unsigned int i = result.history.size() >= 2 ? result.history.size() - 2 : 0;
+                 i < result.history.size();
+                 ++i)
+              still_changing &= result.history[i].state_changes.total() > 0;
             const std::string contact = system.state_note();
-            if (recent.total() > 0 || !contact.empty())
+            if (still_changing || !contact.empty())
               why << "; the contact did not settle (" << recent.normal << " active-set and "
                   << recent.tangential << " stick/slip changes in the last five iterations"
                   << (contact.empty() ? "" : "; " + contact)
