@@ -1,7 +1,10 @@
 #include <dieflow/problem.h>
 #include <dieflow/run.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <numeric>
+#include <sstream>
 #include <fstream>
 #include <iostream>
 
@@ -18,6 +21,94 @@ namespace dieflow
         DieFlowProblem<2>::declare_parameters(prm, layout);
       else
         throw InputError("Dimension: 3 is not available in this version of dieflow; use 2");
+    }
+  } // namespace
+
+
+
+  namespace
+  {
+    /// Edit distance of two names, case ignored.
+    unsigned int
+    distance(const std::string &a, const std::string &b)
+    {
+      std::vector<unsigned int> row(b.size() + 1);
+      std::iota(row.begin(), row.end(), 0u);
+      for (unsigned int i = 1; i <= a.size(); ++i)
+        {
+          unsigned int diagonal = row[0];
+          row[0]                = i;
+          for (unsigned int j = 1; j <= b.size(); ++j)
+            {
+              const unsigned int above = row[j];
+              row[j] = std::min({row[j] + 1,
+                                 row[j - 1] + 1,
+                                 diagonal + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
+              diagonal = above;
+            }
+        }
+      return row[b.size()];
+    }
+
+    /**
+     * " (did you mean 'X' in subsection Y?)" for a deck entry or subsection
+     * the deck misspelt, from the names that @p prm declares; "" when
+     * nothing is close.
+     */
+    std::string
+    suggestion(const dealii::ExceptionBase &exc, const ParameterHandler &prm)
+    {
+      const std::string text = one_line_message(exc);
+      std::string       wrong;
+      bool              subsection = false;
+      if (const auto at = text.find("No entry with name <"); at != std::string::npos)
+        wrong = text.substr(at + 20, text.find('>', at + 20) - at - 20);
+      else if (const auto at = text.find("no such subsection to be entered: "); at != std::string::npos)
+        {
+          wrong      = text.substr(at + 34);
+          subsection = true;
+        }
+      if (wrong.empty())
+        return "";
+
+      // The declared names, with the subsections they live in.
+      std::ostringstream listing;
+      prm.print_parameters(listing, ParameterHandler::ShortPRM);
+      std::istringstream           lines(listing.str());
+      std::vector<std::string>     path;
+      std::string                  line, best, best_where;
+      unsigned int                 best_distance = std::numeric_limits<unsigned int>::max();
+      const auto                   consider      = [&](const std::string &name) {
+        const unsigned int d = distance(wrong, name);
+        if (d < best_distance)
+          {
+            best_distance = d;
+            best          = name;
+            best_where.clear();
+            for (const auto &part : path)
+              best_where += (best_where.empty() ? "" : "/") + part;
+          }
+      };
+      while (std::getline(lines, line))
+        {
+          const auto first = line.find_first_not_of(' ');
+          if (first == std::string::npos)
+            continue;
+          line = line.substr(first);
+          if (line.rfind("subsection ", 0) == 0)
+            {
+              if (subsection)
+                consider(line.substr(11));
+              path.push_back(line.substr(11));
+            }
+          else if (line == "end" && !path.empty())
+            path.pop_back();
+          else if (line.rfind("set ", 0) == 0 && !subsection)
+            consider(dealii::Utilities::trim(line.substr(4, line.find('=') - 4)));
+        }
+      if (best.empty() || best_distance > std::max<unsigned int>(2, wrong.size() / 3))
+        return "";
+      return " (did you mean '" + best + "'" + (best_where.empty() ? "" : " in subsection " + best_where) + "?)";
     }
   } // namespace
 
@@ -44,7 +135,14 @@ namespace dieflow
     declare_deck(prm, layout);
     if (extra)
       extra(prm);
-    prm.parse_input(file_name);
+    try
+      {
+        prm.parse_input(file_name);
+      }
+    catch (const dealii::ExceptionBase &exc)
+      {
+        throw InputError(deck_error_message(exc, file_name) + suggestion(exc, prm));
+      }
   }
 
 
@@ -73,8 +171,14 @@ namespace dieflow
     // the same to the user, wherever the deck lives.
     std::string message = one_line_message(exc);
     const std::string name = std::filesystem::path(file_name).filename().string();
-    for (std::size_t at; !file_name.empty() && (at = message.find(file_name)) != std::string::npos;)
-      message.replace(at, file_name.size(), name);
+    if (!file_name.empty() && name != file_name)
+      for (std::size_t at = message.find(file_name); at != std::string::npos;
+           at = message.find(file_name, at + name.size()))
+        message.replace(at, file_name.size(), name);
+    // deal.II 9.4 leaves the bracket open in its unknown-subsection message.
+    const std::string open = "of file <" + name + ":";
+    if (const auto at = message.find(open); at != std::string::npos)
+      message.insert(at + open.size() - 1, ">");
     return message;
   }
 
