@@ -188,14 +188,17 @@ namespace dieflow
       double       divergence = 0;
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
         divergence += scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0);
+      const unsigned int c       = cell->active_cell_index();
+      const double       lambda  = (cell_penalty != nullptr) ? (*cell_penalty)[c] : penalty;
+      const double cell_stress = lambda * divergence + (multiplier != nullptr ? (*multiplier)[c] : 0.);
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
         {
           const double div_i = scratch.centre[velocities].divergence(i, 0);
-          copy.residual[i] += penalty * divergence * div_i * JxW;
+          copy.residual[i] += cell_stress * div_i * JxW;
           if (matrix != nullptr)
             for (unsigned int j = 0; j <= i; ++j)
               copy.matrix(i, j) +=
-                penalty * div_i * scratch.centre[velocities].divergence(j, 0) * JxW;
+                lambda * div_i * scratch.centre[velocities].divergence(j, 0) * JxW;
         }
 
       if (matrix != nullptr)

@@ -172,10 +172,39 @@ namespace dieflow
     prm.enter_subsection("Linear solver");
     prm.declare_entry("Method",
                       "direct",
-                      dealii::Patterns::Selection("direct"),
-                      "direct: sparse factorisation (SuiteSparse), robust for any "
-                      "penalty and any friction state; its ordering and symbolic "
-                      "factorisation are reused by every iteration on a mesh.");
+                      dealii::Patterns::Selection("direct|iterative|auto"),
+                      "direct: sparse factorisation (SuiteSparse) of the penalty "
+                      "problem, robust for any penalty and any friction state; its "
+                      "ordering and symbolic factorisation are reused by every "
+                      "iteration on a mesh. iterative: the augmented-Lagrangian form "
+                      "(penalty 'Augmentation factor' x eta, the pressure carried as "
+                      "a cell multiplier updated every nonlinear iteration until the "
+                      "divergence ratio is below 'Divergence tolerance'), each system "
+                      "solved by AMG-preconditioned CG, or GMRES when friction slips; "
+                      "a system it cannot solve goes to the direct solver. auto: "
+                      "iterative from 'Iterative from dofs' unknowns on.");
+    prm.declare_entry("Iterative from dofs",
+                      "400000",
+                      dealii::Patterns::Integer(0),
+                      "With Method = auto: the number of unknowns from which the "
+                      "iterative solver is used (doc/benchmarks.md: the measured "
+                      "crossover).");
+    prm.declare_entry("Augmentation factor",
+                      "1e3",
+                      dealii::Patterns::Double(0),
+                      "Iterative method: the penalty r/eta of the augmented "
+                      "Lagrangian. Larger: fewer multiplier updates, harder systems "
+                      "for AMG (1e2 to 1e4).");
+    prm.declare_entry("Iterative tolerance",
+                      "1e-6",
+                      dealii::Patterns::Double(0),
+                      "Iterative method: a linear solve stops when its residual is "
+                      "below this fraction of its right-hand side.");
+    prm.declare_entry("Divergence tolerance",
+                      "1e-7",
+                      dealii::Patterns::Double(0),
+                      "Iterative method: the nonlinear iteration also requires the "
+                      "divergence ratio ||div v|| / ||grad v|| to be below this.");
     prm.declare_entry("Direct solver",
                       "auto",
                       dealii::Patterns::Selection("auto|UMFPACK"),
@@ -191,8 +220,20 @@ namespace dieflow
   LinearSolver::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Linear solver");
-    method        = prm.get("Method");
-    direct_solver = prm.get("Direct solver");
+    method              = prm.get("Method");
+    direct_solver       = prm.get("Direct solver");
+    iterative_threshold = prm.get_integer("Iterative from dofs");
+    augmentation        = prm.get_double("Augmentation factor");
+    iterative_tolerance  = prm.get_double("Iterative tolerance");
+    divergence_tolerance = prm.get_double("Divergence tolerance");
+    if (augmentation <= 0)
+      throw InputError("Linear solver/Augmentation factor: must be positive, got " + prm.get("Augmentation factor"));
+    if (divergence_tolerance <= 0)
+      throw InputError("Linear solver/Divergence tolerance: must be positive, got " +
+                       prm.get("Divergence tolerance"));
+    if (iterative_tolerance <= 0 || iterative_tolerance >= 1)
+      throw InputError("Linear solver/Iterative tolerance: must lie in (0, 1), got " +
+                       prm.get("Iterative tolerance"));
     prm.leave_subsection();
   }
 
@@ -248,6 +289,43 @@ namespace dieflow
     if (umfpack_dl_solve(UMFPACK_A, s.Ap.data(), s.Ai.data(), s.Ax.data(), solution.begin(), rhs.begin(),
                          s.numeric, s.control, info) < 0)
       throw SolverFailure("UMFPACK could not solve with its factorisation");
+  }
+
+
+
+  bool
+  LinearSolver::iterative_for(const std::size_t n_dofs) const
+  {
+    return method == "iterative" || (method == "auto" && n_dofs >= iterative_threshold);
+  }
+
+
+
+  void
+  LinearSolver::set_constant_modes(const std::vector<std::vector<bool>> &modes)
+  {
+    if (!iterative_solver)
+      iterative_solver = std::make_unique<IterativeSolver>();
+    iterative_solver->set_constant_modes(modes);
+  }
+
+
+
+  void
+  LinearSolver::solve_iteratively(const dealii::SparseMatrix<double> &matrix,
+                                  const bool                          symmetric,
+                                  const dealii::Vector<double> &      rhs,
+                                  dealii::Vector<double> &            solution)
+  {
+    Assert(iterative_solver, dealii::ExcMessage("set_constant_modes() comes first"));
+    const IterativeSolveInfo info = iterative_solver->solve(matrix, symmetric, rhs, solution, iterative_tolerance);
+    ++iterative_solves;
+    krylov_iterations += info.iterations;
+    if (info.converged)
+      return;
+    ++direct_fallbacks;
+    factorize(matrix, symmetric);
+    solve(rhs, solution);
   }
 
 

@@ -177,7 +177,7 @@ namespace dieflow
         // Newton step up to round-off.
         const bool linear_done = (k > 0 && system.is_linear());
         const double tolerance = std::max(residual_tolerance, system.residual_floor());
-        if (changes.total() == 0 &&
+        if (changes.total() == 0 && system.constraints_settled() &&
             (residual <= tolerance || (k > 0 && last_update <= update_tolerance) || linear_done))
           {
             result.converged = true;

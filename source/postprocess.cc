@@ -200,18 +200,39 @@ namespace dieflow
 
   template <int dim>
   Vector<double>
-  cell_pressure(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity, const double penalty)
+  cell_divergence(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
     const dealii::FEValuesExtractors::Vector velocities(0);
     dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients);
     std::vector<double>   div(1);
-    Vector<double>        pressure(dof_handler.get_triangulation().n_active_cells());
+    Vector<double>        divergence(dof_handler.get_triangulation().n_active_cells());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         centre.reinit(cell);
         centre[velocities].get_function_divergences(velocity, div);
-        pressure[cell->active_cell_index()] = -penalty * div[0];
+        divergence[cell->active_cell_index()] = div[0];
       }
+    return divergence;
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  cell_pressure(const DoFHandler<dim> &dof_handler,
+                const Vector<double> & velocity,
+                const double           penalty,
+                const Vector<double> * multiplier,
+                const Vector<double> * cell_penalty)
+  {
+    Vector<double> pressure = cell_divergence(dof_handler, velocity);
+    if (cell_penalty != nullptr)
+      pressure.scale(*cell_penalty);
+    else
+      pressure *= penalty;
+    pressure *= -1.;
+    if (multiplier != nullptr)
+      pressure -= *multiplier;
     return pressure;
   }
 
@@ -283,7 +304,7 @@ namespace dieflow
   write_fields(const DoFHandler<dim> &                         dof_handler,
             const Vector<double> &                          velocity,
             const Material &                                material,
-            const double                                    penalty,
+            const Vector<double> &                          p_cell,
             const std::map<std::string, Vector<double>> &   nodal_fields,
             const std::string &                             directory,
             const unsigned int                              cycle,
@@ -296,7 +317,6 @@ namespace dieflow
     DoFHandler<dim>          scalar_dofs(triangulation);
     scalar_dofs.distribute_dofs(scalar_fe);
 
-    const Vector<double> p_cell = cell_pressure(dof_handler, velocity, penalty);
     std::vector<double>  p_sum(triangulation.n_vertices(), 0.), volume(triangulation.n_vertices(), 0.);
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const unsigned int v : cell->vertex_indices())
@@ -354,9 +374,12 @@ namespace dieflow
   template std::pair<double, double>
   velocity_errors<2>(const DoFHandler<2> &, const Vector<double> &, const dealii::Function<2> &);
   template Vector<double>
-  cell_pressure<2>(const DoFHandler<2> &, const Vector<double> &, const double);
+  cell_pressure<2>(const DoFHandler<2> &, const Vector<double> &, const double, const Vector<double> *,
+                   const Vector<double> *);
+  template Vector<double>
+  cell_divergence<2>(const DoFHandler<2> &, const Vector<double> &);
   template void
-  write_fields<2>(const DoFHandler<2> &, const Vector<double> &, const Material &, const double,
+  write_fields<2>(const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &,
                   const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
                   const bool, const bool, std::vector<std::pair<double, std::string>> &);
 } // namespace dieflow

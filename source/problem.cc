@@ -4,6 +4,7 @@
 
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_dgq.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/grid_tools.h>
@@ -174,6 +175,28 @@ namespace dieflow
     sparsity_pattern.copy_from(dsp);
     system_matrix.reinit(sparsity_pattern);
     linear_solver.reset();
+    augmented = linear_solver.iterative_for(dof_handler.n_dofs());
+    if (augmented)
+      {
+        std::vector<std::vector<bool>> constant_modes;
+        dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
+        linear_solver.set_constant_modes(constant_modes);
+        // The previous mesh's cell stress is the best first multiplier.
+        multiplier = transferred_cell_stress;
+        multiplier.reinit(triangulation.n_active_cells(), multiplier.size() == triangulation.n_active_cells());
+      }
+    else
+      multiplier.reinit(0);
+    assembler.set_multiplier(augmented ? &multiplier : nullptr);
+    if (augmented)
+      {
+        cell_penalty = velocity.size() == dof_handler.n_dofs() ? cell_viscosity(velocity) :
+                                                                 Vector<double>(triangulation.n_active_cells());
+        cell_penalty *= linear_solver.augmentation;
+      }
+    assembler.set_cell_penalty(augmented ? &cell_penalty : nullptr);
+    if (mean_viscosity > 0)
+      assembler.set_penalty(penalty_factor() * mean_viscosity);
     system_rhs.reinit(dof_handler.n_dofs());
     raw_residual.reinit(dof_handler.n_dofs());
   }
@@ -244,6 +267,8 @@ namespace dieflow
   StateChanges
   DieFlowProblem<dim>::update_state(Vector<double> &v)
   {
+    if (augmented && v.linfty_norm() > 0)
+      update_multiplier(v);
     StateChanges changes;
     // The first iterate of a refined mesh is the previous solution
     // interpolated, not in equilibrium on the new mesh: its reactions say
@@ -291,9 +316,14 @@ namespace dieflow
   DieFlowProblem<dim>::solve(Vector<double> &update)
   {
     dealii::TimerOutput::Scope scope(timer, "linear solve");
-    linear_solver.factorize(system_matrix, matrix_symmetric);
     update.reinit(dof_handler.n_dofs());
-    linear_solver.solve(system_rhs, update);
+    if (augmented)
+      linear_solver.solve_iteratively(system_matrix, matrix_symmetric, system_rhs, update);
+    else
+      {
+        linear_solver.factorize(system_matrix, matrix_symmetric);
+        linear_solver.solve(system_rhs, update);
+      }
     update_constraints.distribute(update);
   }
 
@@ -320,13 +350,84 @@ namespace dieflow
 
 
   template <int dim>
+  void
+  DieFlowProblem<dim>::update_multiplier(const Vector<double> &v)
+  {
+    Vector<double> uzawa_step = cell_divergence(dof_handler, v);
+    uzawa_step.scale(cell_penalty);
+    multiplier += uzawa_step;
+    last_divergence_ratio = divergence_ratio(dof_handler, v);
+    // r per cell in proportion to its viscosity: the multiplier then
+    // converges as fast in the stiff plug of the container as in the
+    // deforming zone (with one r for all, 1e3 times the mean viscosity is
+    // nothing where eta is 1e4 times the mean).
+    cell_penalty = cell_viscosity(v);
+    cell_penalty *= linear_solver.augmentation;
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::uniform_cell_penalty(const double r)
+  {
+    if (!augmented)
+      return;
+    cell_penalty.reinit(triangulation.n_active_cells());
+    cell_penalty.add(r);
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  DieFlowProblem<dim>::cell_viscosity(const Vector<double> &v) const
+  {
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    dealii::FEValues<dim> centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients);
+    std::vector<dealii::SymmetricTensor<2, dim>> D(1);
+    Vector<double> eta(triangulation.n_active_cells());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        centre.reinit(cell);
+        centre[velocities].get_function_symmetric_gradients(v, D);
+        eta[cell->active_cell_index()] = material.evaluate(std::sqrt(2. / 3. * (D[0] * D[0]))).eta;
+      }
+    return eta;
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  DieFlowProblem<dim>::cell_pressures() const
+  {
+    return cell_pressure(dof_handler,
+                         velocity,
+                         assembler.get_penalty(),
+                         augmented ? &multiplier : nullptr,
+                         augmented ? &cell_penalty : nullptr);
+  }
+
+
+
+  template <int dim>
+  bool
+  DieFlowProblem<dim>::constraints_settled() const
+  {
+    return !augmented || last_divergence_ratio <= linear_solver.divergence_tolerance;
+  }
+
+
+
+  template <int dim>
   double
   DieFlowProblem<dim>::residual_floor() const
   {
     // The cancellation in lambda div v (lambda = factor x eta) leaves about
     // 1e-16 x factor per nodal force; measured on die2d from 666 to 150,000
     // dofs: 1.5e-17 to 3e-17 x factor x sqrt(dofs). Twice that is the floor.
-    return 6e-17 * material.penalty_factor * std::sqrt(static_cast<double>(dof_handler.n_dofs()));
+    return 6e-17 * penalty_factor() * std::sqrt(static_cast<double>(dof_handler.n_dofs()));
   }
 
 
@@ -335,7 +436,8 @@ namespace dieflow
   bool
   DieFlowProblem<dim>::is_linear() const
   {
-    return material.is_newtonian() && contact.empty();
+    // The augmented Lagrangian iterates on its multiplier.
+    return material.is_newtonian() && contact.empty() && !augmented;
   }
 
 
@@ -364,18 +466,19 @@ namespace dieflow
         // The law is the Newtonian problem: the nonlinear solver's first
         // step solves it.
         mean_viscosity = start_viscosity;
-        assembler.set_penalty(material.penalty_factor * mean_viscosity);
-        contact.set_scales(mean_viscosity, assembler.get_penalty());
-        log << "  penalty lambda = " << material.penalty_factor << " x viscosity " << mean_viscosity << " = "
+        assembler.set_penalty(penalty_factor() * mean_viscosity);
+        contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity);
+        log << "  " << penalty_name() << " = " << penalty_factor() << " x viscosity " << mean_viscosity << " = "
             << assembler.get_penalty() << " MPa s" << std::endl;
+        uniform_cell_penalty(assembler.get_penalty());
         return;
       }
 
     Material newtonian = material;
     newtonian.set_newtonian(start_viscosity);
     FlowAssembler<dim> start(newtonian, assembler.body_force_function());
-    start.set_penalty(material.penalty_factor * start_viscosity);
-    contact.set_scales(start_viscosity, start.get_penalty());
+    start.set_penalty(penalty_factor() * start_viscosity);
+    contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity);
     {
       dealii::TimerOutput::Scope scope(timer, "assembly");
       assemble(start, velocity, Linearization::picard, &system_matrix, system_rhs);
@@ -384,13 +487,15 @@ namespace dieflow
     solve(update);
     velocity += update;
     ++start_solves;
+    // The first Uzawa step uses the r this solve had.
+    uniform_cell_penalty(start.get_penalty());
 
     mean_viscosity = assembler.mean_viscosity(dof_handler, velocity);
-    assembler.set_penalty(material.penalty_factor * mean_viscosity);
-    contact.set_scales(mean_viscosity, assembler.get_penalty());
+    assembler.set_penalty(penalty_factor() * mean_viscosity);
+    contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity);
     contact_states_valid = true;
     log << "  Newtonian start: eta = " << std::setprecision(4) << start_viscosity
-        << " MPa s; penalty lambda = " << material.penalty_factor << " x mean viscosity "
+        << " MPa s; " << penalty_name() << " = " << penalty_factor() << " x mean viscosity "
         << mean_viscosity << " = " << assembler.get_penalty() << " MPa s" << std::endl;
   }
 
@@ -468,7 +573,7 @@ namespace dieflow
       write_fields(dof_handler,
                    velocity,
                    material,
-                   assembler.get_penalty(),
+                   cell_pressures(),
                    nodal_fields,
                    run_parameters.output_directory,
                    summary.cycle,
@@ -511,14 +616,40 @@ namespace dieflow
         die.hot_points = contact.hot_points(contact_results);
         mark_cells(refinement, refinement_indicators(refinement, dof_handler, velocity, die), triangulation);
       }
-    dealii::SolutionTransfer<dim, Vector<double>> transfer(dof_handler);
+    // The cell stress q + lambda div v (q = 0 without the augmented
+    // Lagrangian) goes along as a piecewise constant: the next mesh's first
+    // multiplier.
+    const dealii::FE_DGQ<dim> cell_fe(0);
+    DoFHandler<dim>           cell_dofs(triangulation);
+    cell_dofs.distribute_dofs(cell_fe);
+    const Vector<double> stress = cell_pressures();
+    Vector<double>                               cell_values(cell_dofs.n_dofs());
+    std::vector<dealii::types::global_dof_index> index(1);
+    for (const auto &cell : cell_dofs.active_cell_iterators())
+      {
+        cell->get_dof_indices(index);
+        cell_values[index[0]] = -stress[cell->active_cell_index()];  // q = -p
+      }
+
+    dealii::SolutionTransfer<dim, Vector<double>> transfer(dof_handler), cell_transfer(cell_dofs);
     triangulation.prepare_coarsening_and_refinement();
     transfer.prepare_for_coarsening_and_refinement(velocity);
+    cell_transfer.prepare_for_coarsening_and_refinement(cell_values);
     triangulation.execute_coarsening_and_refinement();
     dof_handler.distribute_dofs(fe);
     Vector<double> transferred(dof_handler.n_dofs());
     transfer.interpolate(velocity, transferred);
     velocity = transferred;
+
+    cell_dofs.distribute_dofs(cell_fe);
+    Vector<double> new_cell_values(cell_dofs.n_dofs());
+    cell_transfer.interpolate(cell_values, new_cell_values);
+    transferred_cell_stress.reinit(triangulation.n_active_cells());
+    for (const auto &cell : cell_dofs.active_cell_iterators())
+      {
+        cell->get_dof_indices(index);
+        transferred_cell_stress[cell->active_cell_index()] = new_cell_values[index[0]];
+      }
   }
 
 
@@ -548,6 +679,7 @@ namespace dieflow
         cycle_summary.cycle = cycle;
         start_solves       = 0;
         contact_assemblies = 0;
+        linear_solver.iterative_solves = linear_solver.krylov_iterations = linear_solver.direct_fallbacks = 0;
         NonlinearResult result;
         Vector<double>  start;
         try
@@ -566,6 +698,9 @@ namespace dieflow
         cycle_summary.converged            = result.converged;
         cycle_summary.nonlinear_iterations = result.iterations;
         cycle_summary.linear_solves        = result.linear_solves + start_solves;
+        cycle_summary.linear_method        = augmented ? "iterative" : "direct";
+        cycle_summary.krylov_iterations    = linear_solver.krylov_iterations;
+        cycle_summary.direct_fallbacks     = linear_solver.direct_fallbacks;
         cycle_summary.history              = result.history;
         if (start.size() == velocity.size() && velocity.l2_norm() > 0)
           {
@@ -587,6 +722,10 @@ namespace dieflow
         log << "  converged: " << result.iterations << " iterations, " << cycle_summary.linear_solves
             << " linear solves, divergence ratio " << std::scientific << std::setprecision(2)
             << cycle_summary.divergence_ratio << std::defaultfloat << std::endl;
+        if (augmented)
+          log << "  iterative linear solver: " << linear_solver.iterative_solves << " solves, "
+              << cycle_summary.krylov_iterations << " Krylov iterations, " << cycle_summary.direct_fallbacks
+              << " direct fallbacks" << std::endl;
         summary.wall_time = run_timer.wall_time();
         write_summary_json(summary, summary_file);
       }

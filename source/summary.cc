@@ -102,6 +102,8 @@ namespace dieflow
             << ", \"nonlinear_iterations\": " << s.nonlinear_iterations
             << ", \"linear_solves\": " << s.linear_solves
             << ", \"contact_assemblies\": " << s.contact_assemblies << ",\n"
+            << "      \"linear_solver\": {\"method\": \"" << s.linear_method << "\", \"krylov_iterations\": " << s.krylov_iterations
+            << ", \"direct_fallbacks\": " << s.direct_fallbacks << "},\n"
             << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"
             << "      \"flux\": " << id_map(s.flux, number) << ",\n"
             << "      \"die_normal_force\": " << id_map(s.die_normal_force, number) << ",\n"

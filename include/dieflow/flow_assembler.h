@@ -116,6 +116,25 @@ namespace dieflow
     }
 
     /**
+     * The augmented-Lagrangian form: a multiplier q per active cell joins
+     * the penalty pressure, sigma = 2 eta D + (q + r div v) I, so the
+     * residual gains int q div w (one point) and the Jacobian is unchanged
+     * (r = get_penalty()); null: the plain penalty method.
+     */
+    void
+    set_multiplier(const Vector<double> *q)
+    {
+      multiplier = q;
+    }
+
+    /// A penalty per active cell (replacing get_penalty() there), or null.
+    void
+    set_cell_penalty(const Vector<double> *r)
+    {
+      cell_penalty = r;
+    }
+
+    /**
      * The Jacobian and the right-hand side -R(v) of the update equation,
      * condensed with the homogeneous @p update_constraints, and the raw
      * (unconstrained) residual R(v) whose entries at constrained dofs are
@@ -170,7 +189,9 @@ namespace dieflow
     Tangent                      tangent = Tangent::primal_dual;
     std::vector<dealii::SymmetricTensor<2, dim>> dual;
     const dealii::Function<dim> *body_force;
-    double                       penalty = 0;
+    double                       penalty    = 0;
+    const Vector<double> *       multiplier = nullptr;
+    const Vector<double> *       cell_penalty = nullptr;
   };
 } // namespace dieflow
 

@@ -1,6 +1,7 @@
 #ifndef dieflow_linear_solver_h
 #define dieflow_linear_solver_h
 
+#include <dieflow/iterative_solver.h>
 #include <dieflow/parameters.h>
 
 #include <deal.II/lac/sparse_matrix.h>
@@ -31,6 +32,12 @@ namespace dieflow
    *  - UMFPACK (LU) for the others: the row transformations of slipping
    *    Coulomb friction make J non-symmetric.
    * A symmetric system CHOLMOD finds not positive definite goes to UMFPACK.
+   *
+   * Or, for large meshes, iteratively: IterativeSolver (AMG-preconditioned
+   * CG or GMRES) on the augmented-Lagrangian form of the problem, whose
+   * penalty is moderate (see DieFlowProblem::update_multiplier()). An
+   * iterative solve that does not converge falls back to the direct
+   * solvers, and is counted.
    */
   class LinearSolver
   {
@@ -59,13 +66,43 @@ namespace dieflow
     std::string
     last_solver() const;
 
+    /// Whether systems of @p n_dofs unknowns are solved iteratively.
+    bool
+    iterative_for(const std::size_t n_dofs) const;
+
+    /// The velocity components' constant modes, for the AMG preconditioner.
+    void
+    set_constant_modes(const std::vector<std::vector<bool>> &modes);
+
+    /// Solves @p matrix x = @p rhs iteratively, or, if that fails, directly.
+    void
+    solve_iteratively(const dealii::SparseMatrix<double> &matrix,
+                      const bool                          symmetric,
+                      const dealii::Vector<double> &      rhs,
+                      dealii::Vector<double> &            solution);
+
+    /// "direct", "iterative", or "auto" (iterative from iterative_threshold dofs on).
     std::string method = "direct";
+    std::size_t iterative_threshold = 0;
+    /// r/eta of the augmented-Lagrangian iteration.
+    double augmentation = 1e3;
+    /// Relative residual at which an iterative solve stops.
+    double iterative_tolerance = 1e-6;
+    /// Divergence ratio at which the multiplier iteration stops.
+    double divergence_tolerance = 1e-7;
+
+    /// What the iterative solves did (the problem resets them per cycle).
+    unsigned int krylov_iterations = 0;
+    unsigned int iterative_solves  = 0;
+    unsigned int direct_fallbacks  = 0;
     /// "auto" (CHOLMOD where symmetric), "UMFPACK" (always LU).
     std::string direct_solver = "auto";
 
   private:
     struct SuiteSparse;
     std::unique_ptr<SuiteSparse> suitesparse;
+    /// Made on first use: Trilinos needs MPI initialised (the direct path does not).
+    std::unique_ptr<IterativeSolver> iterative_solver;
   };
 } // namespace dieflow
 

@@ -82,6 +82,15 @@ namespace dieflow
       return 0;
     }
 
+    /// Whether the constraints the iterate satisfies only in the limit
+    /// (an augmented Lagrangian's) hold to their tolerance at the last
+    /// update_state().
+    virtual bool
+    constraints_settled() const
+    {
+      return true;
+    }
+
     /// -R (condensed) of the last assemble_system().
     virtual const dealii::Vector<double> &
     minus_residual() const = 0;

@@ -57,13 +57,23 @@ namespace dieflow
                   const Vector<double> &         velocity,
                   const dealii::Function<dim> &  exact);
 
-  /// Penalty pressure p = -lambda div v at each cell centre.
+  /// div v at each cell centre (what the one-point penalty term sees).
   template <int dim>
   Vector<double>
-  cell_pressure(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity, const double penalty);
+  cell_divergence(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+
+  /// Pressure p = -(q + lambda div v) at each cell centre (q: the
+  /// augmented-Lagrangian multiplier, if any; lambda per cell if given).
+  template <int dim>
+  Vector<double>
+  cell_pressure(const DoFHandler<dim> &dof_handler,
+                const Vector<double> & velocity,
+                const double           penalty,
+                const Vector<double> * multiplier,
+                const Vector<double> * cell_penalty);
 
   /**
-   * Writes velocity, pressure (the cell-centre penalty pressure, and its
+   * Writes velocity, pressure (the cell-centre pressure given, and its
    * area-weighted average at the vertices, which filters the checkerboard
    * mode of Q1-P0), equivalent strain rate and stress, and viscosity as
    * VTU (appended to the PVD index of the run) and/or gnuplot.
@@ -73,7 +83,7 @@ namespace dieflow
   write_fields(const DoFHandler<dim> &                               dof_handler,
             const Vector<double> &                                velocity,
             const Material &                                      material,
-            const double                                          penalty,
+            const Vector<double> &                                pressure,
             const std::map<std::string, Vector<double>> &        nodal_fields,
             const std::string &                                   directory,
             const unsigned int                                    cycle,

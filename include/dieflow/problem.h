@@ -87,6 +87,8 @@ namespace dieflow
     {
       return matrix_symmetric;
     }
+    bool
+    constraints_settled() const override;
     void
     accept_step(const Vector<double> &v,
                 const Vector<double> &update,
@@ -94,6 +96,40 @@ namespace dieflow
                 const Linearization   linearization) override;
 
   private:
+    /**
+     * The augmented-Lagrangian (iterated penalty) form of the incompressible
+     * limit, used with the iterative linear solver (Fortin and Glowinski,
+     * Augmented Lagrangian Methods, 1983): the penalty pressure -lambda div v
+     * of the paper's (8) becomes -(q + r div v), r = 'Augmentation factor'
+     * x eta (per cell) about 1e3 eta instead of lambda = 1e7 eta, and before each
+     * nonlinear iteration the cell multiplier takes its Uzawa step
+     *   q <- q + r div v   (div v at the cell centre).
+     * At the fixed point div v = 0 at every centre: the incompressible
+     * solution, which the penalty method approaches to O(eta/lambda). The
+     * iteration stops when, besides the residual, the divergence ratio is
+     * below 'Divergence tolerance'.
+     */
+    void
+    update_multiplier(const Vector<double> &v);
+    void
+    uniform_cell_penalty(const double r);
+    /// The viscosity at each cell centre.
+    Vector<double>
+    cell_viscosity(const Vector<double> &v) const;
+    /// p = -(q + r div v) or -lambda div v at each cell centre, of the solution.
+    Vector<double>
+    cell_pressures() const;
+    /// r/eta (augmented Lagrangian) or lambda/eta (penalty).
+    double
+    penalty_factor() const
+    {
+      return augmented ? linear_solver.augmentation : material.penalty_factor;
+    }
+    std::string
+    penalty_name() const
+    {
+      return augmented ? "augmented-Lagrangian penalty r" : "penalty lambda";
+    }
     void
     setup_system();
     void
@@ -154,6 +190,15 @@ namespace dieflow
 
     dealii::SparsityPattern      sparsity_pattern;
     dealii::SparseMatrix<double> system_matrix;
+    /// The augmented-Lagrangian form is in use (iterative linear solver).
+    bool                         augmented = false;
+    /// Its multiplier q per active cell (see update_multiplier()).
+    Vector<double>               multiplier;
+    /// Its penalty r per cell: 'Augmentation factor' x the cell's viscosity.
+    Vector<double>               cell_penalty;
+    /// The cell stress q + lambda div v of the previous mesh, on this one.
+    Vector<double>               transferred_cell_stress;
+    double                       last_divergence_ratio = 0;
     Vector<double>               velocity;
     Vector<double>               system_rhs;
     Vector<double>               raw_residual;

@@ -30,6 +30,10 @@ namespace dieflow
     unsigned int nonlinear_iterations = 0;
     unsigned int linear_solves        = 0;
     unsigned int contact_assemblies   = 0;
+    /// "direct" or "iterative", and what the iterative solves did.
+    std::string  linear_method        = "direct";
+    unsigned int krylov_iterations    = 0;
+    unsigned int direct_fallbacks     = 0;
     /// Integral of the traction sigma n over each boundary part (N/mm in 2D).
     std::map<BoundaryId, std::vector<double>> boundary_force;
     /// Integral of v.n over each boundary part (mm^2/s in 2D).

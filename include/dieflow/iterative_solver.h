@@ -1,0 +1,56 @@
+#ifndef dieflow_iterative_solver_h
+#define dieflow_iterative_solver_h
+
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/vector.h>
+
+#include <vector>
+
+namespace dieflow
+{
+  /// What one iterative solve did.
+  struct IterativeSolveInfo
+  {
+    bool         converged  = false;
+    unsigned int iterations = 0;
+  };
+
+  /**
+   * A Krylov method preconditioned by algebraic multigrid (Trilinos ML,
+   * smoothed aggregation on the constant modes of each velocity component,
+   * Chebyshev smoothing): CG for symmetric systems, GMRES when slipping
+   * friction makes them non-symmetric.
+   *
+   * Only for the augmented-Lagrangian form of the flow problem (see
+   * DieFlowProblem::update_multiplier()), whose penalty r is about 1e3
+   * times the viscosity: with the full penalty lambda = 1e7 eta the
+   * near-incompressible modes are invisible to AMG's smoothers and CG
+   * stalls.
+   */
+  class IterativeSolver
+  {
+  public:
+    /// The velocity components' constant modes (DoFTools::extract_constant_modes).
+    void
+    set_constant_modes(const std::vector<std::vector<bool>> &modes);
+
+    /**
+     * Solves @p matrix x = @p rhs (from x = 0) until the residual is below
+     * @p tolerance times |rhs|; reports failure (no exception) after 1000
+     * iterations.
+     */
+    IterativeSolveInfo
+    solve(const dealii::SparseMatrix<double> &matrix,
+          const bool                          symmetric,
+          const dealii::Vector<double> &      rhs,
+          dealii::Vector<double> &            solution,
+          const double                        tolerance);
+
+  private:
+    std::vector<std::vector<bool>>            constant_modes;
+    dealii::TrilinosWrappers::PreconditionAMG preconditioner;
+  };
+} // namespace dieflow
+
+#endif
