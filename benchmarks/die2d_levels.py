@@ -5,8 +5,10 @@ the rest, with dofs and iterations. The walls are the contact walls of case
 P1 (the paper's friction), or frictionless slip walls with --walls slip.
 Each level runs in a process of its own, so the peak memory is that level's.
 
-    benchmarks/die2d_levels.py [--levels 4] [--walls contact|slip]
+    benchmarks/die2d_levels.py [--levels 4] [--walls contact|slip] [--m 0.2]
                                [--tangent primal-dual|standard] [--program build/dieflow]
+
+--m sets the rate sensitivity (0.05: nearly rigid-plastic).
 
 Not a test: the figures depend on the machine, which the report names.
 """
@@ -23,6 +25,23 @@ def machine():
         pass
     return "%s, %d cores, %s" % (model, os.cpu_count(), platform.platform())
 
+def run_die2d(program, base, across, extra="", timeout=None):
+    """Runs deck @p base with the die2d mesh @p across cells across plus the
+    deck text @p extra, in a directory of its own; returns (exit status,
+    summary.json), or None past @p timeout seconds."""
+    with tempfile.TemporaryDirectory() as work:
+        deck = os.path.join(work, "deck.prm")
+        with open(deck, "w") as f:
+            f.write(base)
+            f.write("\nset Output directory = %s\nset Write VTU = false\n" % work)
+            f.write("subsection Mesh\n subsection Die2d\n  set Cells across = %d\n end\nend\n" % across)
+            f.write(extra)
+        try:
+            status = subprocess.run([program, deck], stdout=subprocess.DEVNULL, timeout=timeout).returncode
+        except subprocess.TimeoutExpired:
+            return None
+        return status, json.load(open(os.path.join(work, "summary.json")))
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     root = os.path.dirname(here)
@@ -32,12 +51,14 @@ def main():
     parser.add_argument("--program", default=os.path.join(root, "build", "dieflow"))
     parser.add_argument("--tangent", default="primal-dual", choices=["primal-dual", "standard"])
     parser.add_argument("--walls", default="contact", choices=["contact", "slip"])
+    parser.add_argument("--m", type=float, default=0.2)
     args = parser.parse_args()
 
     base = open(os.path.join(root, "parameters", "die2d-P1.prm")).read()
+    base += "\nsubsection Material\n set Rate sensitivity m = %g\nend\n" % args.m
     if args.walls == "slip":
         base += "\nsubsection Boundary conditions\n set Slip wall ids = 3, 4\nend\nsubsection Contact\n set Die ids =\nend\n"
-    print("die2d, material P (Norton-Hoff m = 0.2), %s walls; %s Newton from a Newtonian start" % (
+    print("die2d, material P (Norton-Hoff m = %g), %s walls; %s Newton from a Newtonian start" % (args.m,
         "frictionless slip" if args.walls == "slip" else "contact with the paper's friction (P1)", args.tangent))
     print("machine: " + machine())
     print()
@@ -45,15 +66,8 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for level in range(args.levels):
         across = args.cells_across * 2**level
-        with tempfile.TemporaryDirectory() as work:
-            deck = os.path.join(work, "deck.prm")
-            with open(deck, "w") as f:
-                f.write(base)
-                f.write("\nset Output directory = %s\nset Write VTU = false\n" % work)
-                f.write("subsection Mesh\n subsection Die2d\n  set Cells across = %d\n end\nend\n" % across)
-                f.write("subsection Nonlinear solver\n set Newton tangent = %s\nend\n" % args.tangent)
-            status = subprocess.run([args.program, deck], stdout=subprocess.DEVNULL).returncode
-            s = json.load(open(os.path.join(work, "summary.json")))
+        status, s = run_die2d(args.program, base, across,
+                              "subsection Nonlinear solver\n set Newton tangent = %s\nend\n" % args.tangent)
         c = s["cycles"][0]
         stages = s["stage_wall_time"]
         assembly, solve = stages.get("assembly", 0), stages.get("linear solve", 0)

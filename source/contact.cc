@@ -836,6 +836,7 @@ namespace dieflow
       {
         info.contact  = true;
         contributions = contact.contributions(v);
+        info.friction_terms = contributions.size();
         for (const auto &c : contributions)
           {
             if (c.has_row_transform)

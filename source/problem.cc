@@ -228,6 +228,7 @@ namespace dieflow
     const AssemblyInfo info =
       assemble_with_contact(flow, contact, dof_handler, v, update_constraints, linearization, matrix, minus_residual, raw_residual);
     contact_assemblies += info.contact ? 1 : 0;
+    friction_terms += info.friction_terms;
     if (matrix != nullptr)
       matrix_symmetric = info.symmetric;
   }
@@ -402,6 +403,7 @@ namespace dieflow
   Vector<double>
   DieFlowProblem<dim>::cell_pressures() const
   {
+    ++pressure_recoveries;
     return cell_pressure(dof_handler,
                          velocity,
                          assembler.get_penalty(),
@@ -529,6 +531,8 @@ namespace dieflow
         summary.velocity_h1_error = errors.second;
       }
 
+    summary.contact_assemblies = contact_assemblies;
+    summary.friction_terms     = friction_terms;
     std::map<std::string, Vector<double>> nodal_fields;
     if (!contact.empty())
       {
@@ -537,9 +541,7 @@ namespace dieflow
         contact.summarise(results, velocity.linfty_norm(), summary);
         contact.write_profiles(results, run_parameters.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
-        summary.contact_assemblies     = contact_assemblies;
         const double inflow            = -boundary_conditions_inflow(summary.flux);
-        summary.contact_assemblies     = contact_assemblies;
         for (const BoundaryId id : contact_parameters.die_ids)
           if (std::abs(summary.flux[id]) > 1e-6 * inflow)
             log << "  flux through die id " << id << ": " << std::setprecision(4) << summary.flux[id] << " ("
@@ -580,6 +582,7 @@ namespace dieflow
                    run_parameters.write_vtu,
                    run_parameters.write_gnuplot,
                    pvd_records);
+    summary.pressure_recoveries = pressure_recoveries;
     if (run_parameters.write_mesh_svg)
       {
         std::ofstream       svg(run_parameters.output_directory + "/mesh-" +
@@ -618,17 +621,20 @@ namespace dieflow
       }
     // The cell stress q + lambda div v (q = 0 without the augmented
     // Lagrangian) goes along as a piecewise constant: the next mesh's first
-    // multiplier.
+    // multiplier, if the iterative method may solve there.
     const dealii::FE_DGQ<dim> cell_fe(0);
     DoFHandler<dim>           cell_dofs(triangulation);
     cell_dofs.distribute_dofs(cell_fe);
-    const Vector<double> stress = cell_pressures();
     Vector<double>                               cell_values(cell_dofs.n_dofs());
     std::vector<dealii::types::global_dof_index> index(1);
-    for (const auto &cell : cell_dofs.active_cell_iterators())
+    if (linear_solver.method != "direct")
       {
-        cell->get_dof_indices(index);
-        cell_values[index[0]] = -stress[cell->active_cell_index()];  // q = -p
+        const Vector<double> pressure = cell_pressures();
+        for (const auto &cell : cell_dofs.active_cell_iterators())
+          {
+            cell->get_dof_indices(index);
+            cell_values[index[0]] = -pressure[cell->active_cell_index()];
+          }
       }
 
     dealii::SolutionTransfer<dim, Vector<double>> transfer(dof_handler), cell_transfer(cell_dofs);
@@ -677,8 +683,10 @@ namespace dieflow
 
         CycleSummary cycle_summary;
         cycle_summary.cycle = cycle;
-        start_solves       = 0;
-        contact_assemblies = 0;
+        start_solves        = 0;
+        contact_assemblies  = 0;
+        friction_terms      = 0;
+        pressure_recoveries = 0;
         linear_solver.iterative_solves = linear_solver.krylov_iterations = linear_solver.direct_fallbacks = 0;
         NonlinearResult result;
         Vector<double>  start;

@@ -101,7 +101,9 @@ namespace dieflow
             << "      \"converged\": " << (s.converged ? "true" : "false")
             << ", \"nonlinear_iterations\": " << s.nonlinear_iterations
             << ", \"linear_solves\": " << s.linear_solves
-            << ", \"contact_assemblies\": " << s.contact_assemblies << ",\n"
+            << ", \"contact_assemblies\": " << s.contact_assemblies
+            << ", \"friction_terms\": " << s.friction_terms
+            << ", \"pressure_recoveries\": " << s.pressure_recoveries << ",\n"
             << "      \"linear_solver\": {\"method\": \"" << s.linear_method << "\", \"krylov_iterations\": " << s.krylov_iterations
             << ", \"direct_fallbacks\": " << s.direct_fallbacks << "},\n"
             << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"

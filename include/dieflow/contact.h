@@ -291,6 +291,8 @@ namespace dieflow
     /// The Jacobian is symmetric (no slipping friction's row transformation
     /// or non-symmetric element tangent).
     bool symmetric = true;
+    /// Contact elements whose friction (tangential) terms were evaluated.
+    unsigned int friction_terms = 0;
   };
 
   template <int dim>

@@ -172,6 +172,8 @@ namespace dieflow
     /// True for the first iterate of a refined mesh (see update_state()).
     bool                                       states_from_previous_mesh = false;
     unsigned int                               contact_assemblies   = 0;
+    unsigned int                               friction_terms       = 0;
+    mutable unsigned int                       pressure_recoveries  = 0;
     std::unique_ptr<dealii::FunctionParser<dim>> exact_velocity;
 
     std::ostream &log;

@@ -30,6 +30,12 @@ namespace dieflow
     unsigned int nonlinear_iterations = 0;
     unsigned int linear_solves        = 0;
     unsigned int contact_assemblies   = 0;
+    /// Contact elements whose friction terms were evaluated, summed over
+    /// the assemblies (0 when every friction coefficient is 0).
+    unsigned int friction_terms       = 0;
+    /// Times the pressure field was recovered (only for output files and
+    /// for the iterative method's mesh transfer).
+    unsigned int pressure_recoveries  = 0;
     /// "direct" or "iterative", and what the iterative solves did.
     std::string  linear_method        = "direct";
     unsigned int krylov_iterations    = 0;
