@@ -123,7 +123,10 @@ namespace dieflow
       A.sorted = 1;
       A.packed = 1;
       if (factor == nullptr)
-        factor = cholmod_l_analyze(&A, &common);
+        {
+          factor = cholmod_l_analyze(&A, &common);
+          ++analyses;
+        }
       if (factor == nullptr)
         return false;
       cholmod_l_factorize(&A, factor, &common);
@@ -136,9 +139,12 @@ namespace dieflow
       double info[UMFPACK_INFO];
       if (numeric != nullptr)
         umfpack_dl_free_numeric(&numeric);
-      if (symbolic == nullptr &&
-          umfpack_dl_symbolic(n, n, Ap.data(), Ai.data(), Ax.data(), &symbolic, control, info) != UMFPACK_OK)
-        return false;
+      if (symbolic == nullptr)
+        {
+          ++analyses;
+          if (umfpack_dl_symbolic(n, n, Ap.data(), Ai.data(), Ax.data(), &symbolic, control, info) != UMFPACK_OK)
+            return false;
+        }
       return umfpack_dl_numeric(Ap.data(), Ai.data(), Ax.data(), symbolic, &numeric, control, info) == UMFPACK_OK;
     }
 
@@ -154,6 +160,8 @@ namespace dieflow
     void *                   numeric  = nullptr;
     double                   control[UMFPACK_CONTROL];
     bool                     last_was_cholesky = false;
+    /// Orderings and symbolic factorisations computed (both kinds).
+    unsigned int             analyses = 0;
   };
 
 
@@ -184,11 +192,13 @@ namespace dieflow
                       "a system it cannot solve goes to the direct solver. auto: "
                       "iterative from 'Iterative from dofs' unknowns on.");
     prm.declare_entry("Iterative from dofs",
-                      "400000",
+                      "3000000",
                       dealii::Patterns::Integer(0),
                       "With Method = auto: the number of unknowns from which the "
-                      "iterative solver is used (doc/benchmarks.md: the measured "
-                      "crossover).");
+                      "iterative solver is used. The direct solver was faster at "
+                      "every measured size (up to 458k unknowns, doc/benchmarks.md); "
+                      "this default is where its factorisation would outgrow some "
+                      "13 GB of memory (extrapolated), not a measured crossover.");
     prm.declare_entry("Augmentation factor",
                       "1e3",
                       dealii::Patterns::Double(0),
@@ -255,9 +265,13 @@ namespace dieflow
     s.analyse_pattern(matrix);
     s.copy_values(matrix);
     s.last_was_cholesky = symmetric && direct_solver == "auto" && s.cholesky();
-    if (!s.last_was_cholesky && !s.lu())
+    const bool factorised = s.last_was_cholesky || s.lu();
+    counts.symbolic_analyses += s.analyses;
+    s.analyses = 0;
+    if (!factorised)
       throw SolverFailure("the sparse direct solver (UMFPACK) could not factorise the "
                           "linearised system: it is singular, or memory ran out");
+    ++(s.last_was_cholesky ? counts.cholesky_factorisations : counts.lu_factorisations);
   }
 
 
@@ -319,11 +333,11 @@ namespace dieflow
   {
     Assert(iterative_solver, dealii::ExcMessage("set_constant_modes() comes first"));
     const IterativeSolveInfo info = iterative_solver->solve(matrix, symmetric, rhs, solution, iterative_tolerance);
-    ++iterative_solves;
-    krylov_iterations += info.iterations;
+    ++counts.iterative_solves;
+    counts.krylov_iterations += info.iterations;
     if (info.converged)
       return;
-    ++direct_fallbacks;
+    ++counts.direct_fallbacks;
     factorize(matrix, symmetric);
     solve(rhs, solution);
   }

@@ -687,7 +687,7 @@ namespace dieflow
         contact_assemblies  = 0;
         friction_terms      = 0;
         pressure_recoveries = 0;
-        linear_solver.iterative_solves = linear_solver.krylov_iterations = linear_solver.direct_fallbacks = 0;
+        linear_solver.counts = LinearSolverCounts();
         NonlinearResult result;
         Vector<double>  start;
         try
@@ -707,8 +707,7 @@ namespace dieflow
         cycle_summary.nonlinear_iterations = result.iterations;
         cycle_summary.linear_solves        = result.linear_solves + start_solves;
         cycle_summary.linear_method        = augmented ? "iterative" : "direct";
-        cycle_summary.krylov_iterations    = linear_solver.krylov_iterations;
-        cycle_summary.direct_fallbacks     = linear_solver.direct_fallbacks;
+        cycle_summary.linear_counts        = linear_solver.counts;
         cycle_summary.history              = result.history;
         if (start.size() == velocity.size() && velocity.l2_norm() > 0)
           {
@@ -731,8 +730,8 @@ namespace dieflow
             << " linear solves, divergence ratio " << std::scientific << std::setprecision(2)
             << cycle_summary.divergence_ratio << std::defaultfloat << std::endl;
         if (augmented)
-          log << "  iterative linear solver: " << linear_solver.iterative_solves << " solves, "
-              << cycle_summary.krylov_iterations << " Krylov iterations, " << cycle_summary.direct_fallbacks
+          log << "  iterative linear solver: " << linear_solver.counts.iterative_solves << " solves, "
+              << linear_solver.counts.krylov_iterations << " Krylov iterations, " << linear_solver.counts.direct_fallbacks
               << " direct fallbacks" << std::endl;
         summary.wall_time = run_timer.wall_time();
         write_summary_json(summary, summary_file);

@@ -104,8 +104,13 @@ namespace dieflow
             << ", \"contact_assemblies\": " << s.contact_assemblies
             << ", \"friction_terms\": " << s.friction_terms
             << ", \"pressure_recoveries\": " << s.pressure_recoveries << ",\n"
-            << "      \"linear_solver\": {\"method\": \"" << s.linear_method << "\", \"krylov_iterations\": " << s.krylov_iterations
-            << ", \"direct_fallbacks\": " << s.direct_fallbacks << "},\n"
+            << "      \"linear_solver\": {\"method\": \"" << s.linear_method
+            << "\", \"symbolic_analyses\": " << s.linear_counts.symbolic_analyses
+            << ", \"cholesky_factorisations\": " << s.linear_counts.cholesky_factorisations
+            << ", \"lu_factorisations\": " << s.linear_counts.lu_factorisations
+            << ", \"iterative_solves\": " << s.linear_counts.iterative_solves
+            << ", \"krylov_iterations\": " << s.linear_counts.krylov_iterations
+            << ", \"direct_fallbacks\": " << s.linear_counts.direct_fallbacks << "},\n"
             << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"
             << "      \"flux\": " << id_map(s.flux, number) << ",\n"
             << "      \"die_normal_force\": " << id_map(s.die_normal_force, number) << ",\n"

@@ -3,6 +3,7 @@
 
 #include <dieflow/iterative_solver.h>
 #include <dieflow/parameters.h>
+#include <dieflow/summary.h>
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
@@ -91,10 +92,8 @@ namespace dieflow
     /// Divergence ratio at which the multiplier iteration stops.
     double divergence_tolerance = 1e-7;
 
-    /// What the iterative solves did (the problem resets them per cycle).
-    unsigned int krylov_iterations = 0;
-    unsigned int iterative_solves  = 0;
-    unsigned int direct_fallbacks  = 0;
+    /// What the solves did (the problem resets them per cycle).
+    LinearSolverCounts counts;
     /// "auto" (CHOLMOD where symmetric), "UMFPACK" (always LU).
     std::string direct_solver = "auto";
 

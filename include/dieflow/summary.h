@@ -20,6 +20,21 @@ namespace dieflow
     unsigned int slip      = 0;
   };
 
+  /// What the linear solvers did in one cycle.
+  struct LinearSolverCounts
+  {
+    /// Iterative method: solves, their Krylov iterations, and the solves
+    /// that did not converge and went to the direct solver.
+    unsigned int iterative_solves  = 0;
+    unsigned int krylov_iterations = 0;
+    unsigned int direct_fallbacks  = 0;
+    /// Direct solver: orderings with symbolic factorisations (one per mesh
+    /// and kind when the reuse works), and numeric factorisations by kind.
+    unsigned int symbolic_analyses       = 0;
+    unsigned int cholesky_factorisations = 0;
+    unsigned int lu_factorisations       = 0;
+  };
+
   /// What one refinement cycle reports (interface.md, summary.json).
   struct CycleSummary
   {
@@ -36,10 +51,9 @@ namespace dieflow
     /// Times the pressure field was recovered (only for output files and
     /// for the iterative method's mesh transfer).
     unsigned int pressure_recoveries  = 0;
-    /// "direct" or "iterative", and what the iterative solves did.
-    std::string  linear_method        = "direct";
-    unsigned int krylov_iterations    = 0;
-    unsigned int direct_fallbacks     = 0;
+    /// "direct" or "iterative", and what the linear solvers did.
+    std::string        linear_method = "direct";
+    LinearSolverCounts linear_counts;
     /// Integral of the traction sigma n over each boundary part (N/mm in 2D).
     std::map<BoundaryId, std::vector<double>> boundary_force;
     /// Integral of v.n over each boundary part (mm^2/s in 2D).
