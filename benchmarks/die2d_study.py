@@ -9,6 +9,7 @@ wall time needed to reach 1% and 0.1%, and plots error against dofs and
 against wall time (gnuplot PNG).
 
     benchmarks/die2d_study.py [--case N1|P1|exact] [--images doc/images]
+                              [--adaptive-cycles 14] [--strategies uniform,adaptive kelly,...]
 
 Not a test: the times are this machine's.
 """
@@ -108,7 +109,14 @@ def main():
     parser.add_argument("--case", default="N1", choices=["N1", "P1", "exact"])
     parser.add_argument("--images", default=os.path.join(ROOT, "doc", "images"))
     parser.add_argument("--program", default=os.path.join(ROOT, "build", "dieflow"))
+    parser.add_argument("--adaptive-cycles", type=int, default=14)
+    parser.add_argument("--strategies", default=",".join(STRATEGIES))
     args = parser.parse_args()
+    for name in list(STRATEGIES):
+        if name not in args.strategies.split(","):
+            del STRATEGIES[name]
+        elif name != "uniform":
+            STRATEGIES[name] = (STRATEGIES[name][0], args.adaptive_cycles, STRATEGIES[name][2])
 
     results = {}
     with tempfile.TemporaryDirectory() as work:
