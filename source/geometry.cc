@@ -168,13 +168,7 @@ namespace dieflow
 
     prm.enter_subsection("Die2d");
     {
-      const auto positive = [&](const std::string &entry) {
-        const double value = prm.get_double(entry);
-        require(std::isfinite(value) && value > 0,
-                "Mesh/Die2d/" + entry,
-                "must be positive, got " + prm.get(entry));
-        return value;
-      };
+      const auto positive = [&](const std::string &entry) { return get_positive(prm, "Mesh/Die2d/", entry); };
       die2d.inlet_half_height  = positive("Inlet half height");
       die2d.outlet_half_height = positive("Outlet half height");
       die2d.die_angle_degrees  = positive("Die angle");

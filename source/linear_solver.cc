@@ -233,17 +233,12 @@ namespace dieflow
     method              = prm.get("Method");
     direct_solver       = prm.get("Direct solver");
     iterative_threshold = prm.get_integer("Iterative from dofs");
-    augmentation        = prm.get_double("Augmentation factor");
+    augmentation        = get_positive(prm, "Linear solver/", "Augmentation factor");
     iterative_tolerance  = prm.get_double("Iterative tolerance");
-    divergence_tolerance = prm.get_double("Divergence tolerance");
-    if (augmentation <= 0)
-      throw InputError("Linear solver/Augmentation factor: must be positive, got " + prm.get("Augmentation factor"));
-    if (divergence_tolerance <= 0)
-      throw InputError("Linear solver/Divergence tolerance: must be positive, got " +
-                       prm.get("Divergence tolerance"));
-    if (iterative_tolerance <= 0 || iterative_tolerance >= 1)
-      throw InputError("Linear solver/Iterative tolerance: must lie in (0, 1), got " +
-                       prm.get("Iterative tolerance"));
+    divergence_tolerance = get_positive(prm, "Linear solver/", "Divergence tolerance");
+    require(iterative_tolerance > 0 && iterative_tolerance < 1,
+            "Linear solver/Iterative tolerance",
+            "must lie in (0, 1), got " + prm.get("Iterative tolerance"));
     prm.leave_subsection();
   }
 

@@ -174,13 +174,7 @@ namespace dieflow
   {
     prm.enter_subsection("Material");
     law_name = prm.get("Law");
-    const auto positive = [&](const std::string &entry) {
-      const double value = prm.get_double(entry);
-      require(std::isfinite(value) && value > 0,
-              "Material/" + entry,
-              "must be positive, got " + prm.get(entry));
-      return value;
-    };
+    const auto positive = [&](const std::string &entry) { return get_positive(prm, "Material/", entry); };
 
     if (law_name == "Newtonian")
       law = std::make_shared<NewtonianLaw>(positive("Viscosity"));
@@ -203,10 +197,7 @@ namespace dieflow
                                                  positive("Temperature"));
       }
 
-    minimum_strain_rate = prm.get_double("Minimum strain rate");
-    require(std::isfinite(minimum_strain_rate) && minimum_strain_rate > 0,
-            "Material/Minimum strain rate",
-            "must be positive, got " + prm.get("Minimum strain rate"));
+    minimum_strain_rate = positive("Minimum strain rate");
     minimum_viscosity = prm.get_double("Minimum viscosity");
     maximum_viscosity = prm.get_double("Maximum viscosity");
     require(std::isfinite(minimum_viscosity) && minimum_viscosity >= 0,

@@ -3,6 +3,7 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/utilities.h>
 
+#include <cmath>
 #include <sstream>
 
 namespace dieflow
@@ -109,6 +110,16 @@ namespace dieflow
         result.emplace_back(*id.begin(), value);
       }
     return result;
+  }
+
+
+
+  double
+  get_positive(const ParameterHandler &prm, const std::string &subsection, const std::string &entry)
+  {
+    const double value = prm.get_double(entry);
+    require(std::isfinite(value) && value > 0, subsection + entry, "must be positive, got " + prm.get(entry));
+    return value;
   }
 
 

@@ -72,6 +72,13 @@ namespace dieflow
     if (!condition)
       throw InputError(entry + ": " + reason);
   }
+
+  /**
+   * The entry @p entry of the current subsection, which must be a finite
+   * positive number; @p subsection ("Material/") names it in the error.
+   */
+  double
+  get_positive(const ParameterHandler &prm, const std::string &subsection, const std::string &entry);
 } // namespace dieflow
 
 #endif
