@@ -184,16 +184,14 @@ namespace dieflow
         // The previous mesh's cell stress is the best first multiplier.
         multiplier = transferred_cell_stress;
         multiplier.reinit(triangulation.n_active_cells(), multiplier.size() == triangulation.n_active_cells());
+        if (velocity.size() == dof_handler.n_dofs())
+          update_cell_penalty(velocity);
+        else
+          cell_penalty.reinit(triangulation.n_active_cells());
       }
     else
       multiplier.reinit(0);
     assembler.set_multiplier(augmented ? &multiplier : nullptr);
-    if (augmented)
-      {
-        cell_penalty = velocity.size() == dof_handler.n_dofs() ? cell_viscosity(velocity) :
-                                                                 Vector<double>(triangulation.n_active_cells());
-        cell_penalty *= linear_solver.augmentation;
-      }
     assembler.set_cell_penalty(augmented ? &cell_penalty : nullptr);
     if (mean_viscosity > 0)
       assembler.set_penalty(penalty_factor() * mean_viscosity);
@@ -358,6 +356,15 @@ namespace dieflow
     uzawa_step.scale(cell_penalty);
     multiplier += uzawa_step;
     last_divergence_ratio = divergence_ratio(dof_handler, v);
+    update_cell_penalty(v);
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::update_cell_penalty(const Vector<double> &v)
+  {
     // r per cell in proportion to its viscosity: the multiplier then
     // converges as fast in the stiff plug of the container as in the
     // deforming zone (with one r for all, 1e3 times the mean viscosity is
@@ -622,13 +629,15 @@ namespace dieflow
     // The cell stress q + lambda div v (q = 0 without the augmented
     // Lagrangian) goes along as a piecewise constant: the next mesh's first
     // multiplier, if the iterative method may solve there.
-    const dealii::FE_DGQ<dim> cell_fe(0);
-    DoFHandler<dim>           cell_dofs(triangulation);
-    cell_dofs.distribute_dofs(cell_fe);
-    Vector<double>                               cell_values(cell_dofs.n_dofs());
+    const bool                                   carry_stress = linear_solver.method != "direct";
+    const dealii::FE_DGQ<dim>                    cell_fe(0);
+    DoFHandler<dim>                              cell_dofs(triangulation);
+    Vector<double>                               cell_values;
     std::vector<dealii::types::global_dof_index> index(1);
-    if (linear_solver.method != "direct")
+    if (carry_stress)
       {
+        cell_dofs.distribute_dofs(cell_fe);
+        cell_values.reinit(cell_dofs.n_dofs());
         const Vector<double> pressure = cell_pressures();
         for (const auto &cell : cell_dofs.active_cell_iterators())
           {
@@ -640,13 +649,17 @@ namespace dieflow
     dealii::SolutionTransfer<dim, Vector<double>> transfer(dof_handler), cell_transfer(cell_dofs);
     triangulation.prepare_coarsening_and_refinement();
     transfer.prepare_for_coarsening_and_refinement(velocity);
-    cell_transfer.prepare_for_coarsening_and_refinement(cell_values);
+    if (carry_stress)
+      cell_transfer.prepare_for_coarsening_and_refinement(cell_values);
     triangulation.execute_coarsening_and_refinement();
     dof_handler.distribute_dofs(fe);
     Vector<double> transferred(dof_handler.n_dofs());
     transfer.interpolate(velocity, transferred);
     velocity = transferred;
 
+    transferred_cell_stress.reinit(0);
+    if (!carry_stress)
+      return;
     cell_dofs.distribute_dofs(cell_fe);
     Vector<double> new_cell_values(cell_dofs.n_dofs());
     cell_transfer.interpolate(cell_values, new_cell_values);

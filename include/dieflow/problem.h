@@ -113,6 +113,9 @@ namespace dieflow
     update_multiplier(const Vector<double> &v);
     void
     uniform_cell_penalty(const double r);
+    /// r = 'Augmentation factor' x the viscosity of @p v at each cell centre.
+    void
+    update_cell_penalty(const Vector<double> &v);
     /// The viscosity at each cell centre.
     Vector<double>
     cell_viscosity(const Vector<double> &v) const;
