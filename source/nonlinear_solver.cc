@@ -106,6 +106,35 @@ namespace dieflow
              << r.state_changes.tangential;
       log << line.str() << std::endl;
     }
+    /// Why the iteration stopped at its limit, and what to change: the
+    /// contact if its states kept changing or cycled, else the limit.
+    std::string
+    not_converged_message(const std::vector<IterationRecord> &history,
+                          const double                         residual,
+                          const std::string &                  contact_note)
+    {
+      std::ostringstream why;
+      why << "no convergence in " << history.back().iteration << " iterations (relative residual "
+          << std::scientific << std::setprecision(2) << residual << ")";
+      StateChanges recent;
+      bool         still_changing = history.size() >= 3;
+      for (unsigned int i = history.size() > 5 ? history.size() - 5 : 0; i < history.size(); ++i)
+        {
+          recent.normal += history[i].state_changes.normal;
+          recent.tangential += history[i].state_changes.tangential;
+        }
+      for (unsigned int i = history.size() >= 2 ? history.size() - 2 : 0; i < history.size(); ++i)
+        still_changing &= history[i].state_changes.total() > 0;
+      if (still_changing || !contact_note.empty())
+        why << "; the contact did not settle (" << recent.normal << " active-set and " << recent.tangential
+            << " stick/slip changes in the last five iterations"
+            << (contact_note.empty() ? "" : "; " + contact_note)
+            << "): refine the mesh at the die, or use Contact/Friction law = Tresca or "
+               "regularised Coulomb, or a smaller friction coefficient";
+      else
+        why << "; raise Nonlinear solver/Maximum iterations, or try Method = Picard then Newton";
+      return why.str();
+    }
   } // namespace
 
 
@@ -185,32 +214,7 @@ namespace dieflow
           }
         if (k == maximum_iterations)
           {
-            std::ostringstream why;
-            why << "no convergence in " << maximum_iterations << " iterations (relative residual "
-                << std::scientific << std::setprecision(2) << residual << ")";
-            StateChanges recent;
-            bool         still_changing = result.history.size() >= 3;
-            for (unsigned int i = result.history.size() > 5 ? result.history.size() - 5 : 0;
-                 i < result.history.size();
-                 ++i)
-              {
-                recent.normal += result.history[i].state_changes.normal;
-                recent.tangential += result.history[i].state_changes.tangential;
-              }
-            for (unsigned int i = result.history.size() >= 2 ? result.history.size() - 2 : 0;
-                 i < result.history.size();
-                 ++i)
-              still_changing &= result.history[i].state_changes.total() > 0;
-            const std::string contact = system.state_note();
-            if (still_changing || !contact.empty())
-              why << "; the contact did not settle (" << recent.normal << " active-set and "
-                  << recent.tangential << " stick/slip changes in the last five iterations"
-                  << (contact.empty() ? "" : "; " + contact)
-                  << "): refine the mesh at the die, or use Contact/Friction law = Tresca or "
-                     "regularised Coulomb, or a smaller friction coefficient";
-            else
-              why << "; raise Nonlinear solver/Maximum iterations, or try Method = Picard then Newton";
-            result.failure = why.str();
+            result.failure = not_converged_message(result.history, residual, system.state_note());
             return result;
           }
         const auto solved = [&]() {

@@ -41,9 +41,9 @@ namespace
   bool
   symbolic_factorisation_reused(const CycleSummary &c)
   {
-    const LinearSolverCounts &n = c.linear_counts;
-    return n.cholesky_factorisations + n.lu_factorisations == c.linear_solves &&
-           n.symbolic_analyses == (n.cholesky_factorisations > 0) + (n.lu_factorisations > 0) &&
+    const LinearSolverCounts &n     = c.linear_counts;
+    const unsigned int        kinds = (n.cholesky_factorisations > 0 ? 1 : 0) + (n.lu_factorisations > 0 ? 1 : 0);
+    return n.cholesky_factorisations + n.lu_factorisations == c.linear_solves && n.symbolic_analyses == kinds &&
            c.linear_solves > 2;
   }
 
