@@ -1,5 +1,5 @@
 #include <dieflow/expressions.h>
-#include <dieflow/postprocess.h>
+#include <dieflow/postprocess/postprocess.h>
 #include <dieflow/problem.h>
 
 #include <deal.II/base/timer.h>

@@ -6,7 +6,7 @@
 // 1e-6 |u| have a truncation error of 1e-12 relative (the element is
 // piecewise quadratic in u): tolerance 1e-7. Also: c_n, c_t are the
 // variations of the gap rates, slip sits on the Coulomb cone, stick below it.
-#include <dieflow/contact_element.h>
+#include <dieflow/contact/contact_element.h>
 
 #include "report.h"
 

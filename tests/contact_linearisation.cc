@@ -10,8 +10,8 @@
 // Step e = 1e-6 |v|/|w|: truncation ~1e-12; round-off of R (penalty
 // lambda = 1e7 eta) ~1e-9 relative to R, divided by e: tolerance 1e-5.
 #include <dieflow/boundary_conditions.h>
-#include <dieflow/contact.h>
-#include <dieflow/geometry.h>
+#include <dieflow/contact/contact.h>
+#include <dieflow/mesh/geometry.h>
 #include <dieflow/run.h>
 
 #include <deal.II/dofs/dof_tools.h>

@@ -4,8 +4,8 @@
 // e = 1e-5 relative the truncation error is ~1e-10 and the round-off of R
 // (penalty 100 eta) ~1e-11: tolerance 1e-7. Also: the tangent is symmetric,
 // and the primal-dual tangent with S = D/r is the consistent one.
-#include <dieflow/flow_assembler.h>
-#include <dieflow/geometry.h>
+#include <dieflow/flow/flow_assembler.h>
+#include <dieflow/mesh/geometry.h>
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>

@@ -6,7 +6,7 @@
 //    with Z computed directly);
 //  - the Material's regularisation: eta at epsdot_eq = 0 is the law at
 //    epsdot_min, and its derivative is the chain rule of sqrt(e^2 + e0^2).
-#include <dieflow/material.h>
+#include <dieflow/flow/material.h>
 
 #include "report.h"
 

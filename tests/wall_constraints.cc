@@ -4,7 +4,7 @@
 //  - a wall node whose x component is prescribed (Dirichlet wins on it):
 //    v.n = 0 then fixes y through x, whatever x is;
 //  - two nearly parallel normals are rejected as dependent (one condition).
-#include <dieflow/wall_nodes.h>
+#include <dieflow/mesh/wall_nodes.h>
 
 #include <deal.II/lac/vector.h>
 

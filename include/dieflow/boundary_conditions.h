@@ -2,7 +2,7 @@
 #define dieflow_boundary_conditions_h
 
 #include <dieflow/parameters.h>
-#include <dieflow/wall_nodes.h>
+#include <dieflow/mesh/wall_nodes.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/fe/component_mask.h>

@@ -2,17 +2,17 @@
 #define dieflow_problem_h
 
 #include <dieflow/boundary_conditions.h>
-#include <dieflow/contact.h>
-#include <dieflow/flow_assembler.h>
-#include <dieflow/geometry.h>
-#include <dieflow/linear_solver.h>
-#include <dieflow/material.h>
-#include <dieflow/nonlinear_solver.h>
+#include <dieflow/contact/contact.h>
+#include <dieflow/flow/flow_assembler.h>
+#include <dieflow/mesh/geometry.h>
+#include <dieflow/solvers/linear_solver.h>
+#include <dieflow/flow/material.h>
+#include <dieflow/solvers/nonlinear_solver.h>
 #include <dieflow/parameters.h>
-#include <dieflow/refinement.h>
-#include <dieflow/study.h>
-#include <dieflow/summary.h>
-#include <dieflow/wall_nodes.h>
+#include <dieflow/mesh/refinement.h>
+#include <dieflow/postprocess/study.h>
+#include <dieflow/postprocess/summary.h>
+#include <dieflow/mesh/wall_nodes.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/timer.h>

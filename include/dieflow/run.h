@@ -2,7 +2,7 @@
 #define dieflow_run_h
 
 #include <dieflow/parameters.h>
-#include <dieflow/summary.h>
+#include <dieflow/postprocess/summary.h>
 
 #include <functional>
 #include <ostream>

@@ -1,4 +1,4 @@
-#include <dieflow/material.h>
+#include <dieflow/flow/material.h>
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include <dieflow/summary.h>
+#include <dieflow/postprocess/summary.h>
 
 #include <cmath>
 #include <fstream>

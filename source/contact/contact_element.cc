@@ -1,4 +1,4 @@
-#include <dieflow/contact_element.h>
+#include <dieflow/contact/contact_element.h>
 
 #include <cmath>
 

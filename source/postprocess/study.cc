@@ -1,4 +1,4 @@
-#include <dieflow/study.h>
+#include <dieflow/postprocess/study.h>
 
 #include <deal.II/base/convergence_table.h>
 

@@ -1,4 +1,4 @@
-#include <dieflow/refinement.h>
+#include <dieflow/mesh/refinement.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe.h>

@@ -1,7 +1,7 @@
 #ifndef dieflow_nonlinear_solver_h
 #define dieflow_nonlinear_solver_h
 
-#include <dieflow/flow_assembler.h>
+#include <dieflow/flow/flow_assembler.h>
 #include <dieflow/parameters.h>
 
 #include <deal.II/lac/vector.h>

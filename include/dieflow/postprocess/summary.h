@@ -1,7 +1,7 @@
 #ifndef dieflow_summary_h
 #define dieflow_summary_h
 
-#include <dieflow/nonlinear_solver.h>
+#include <dieflow/solvers/nonlinear_solver.h>
 #include <dieflow/parameters.h>
 
 #include <map>

@@ -1,4 +1,4 @@
-#include <dieflow/flow_assembler.h>
+#include <dieflow/flow/flow_assembler.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>

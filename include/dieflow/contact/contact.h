@@ -1,12 +1,12 @@
 #ifndef dieflow_contact_h
 #define dieflow_contact_h
 
-#include <dieflow/contact_element.h>
-#include <dieflow/flow_assembler.h>
-#include <dieflow/nonlinear_solver.h>
+#include <dieflow/contact/contact_element.h>
+#include <dieflow/flow/flow_assembler.h>
+#include <dieflow/solvers/nonlinear_solver.h>
 #include <dieflow/parameters.h>
-#include <dieflow/summary.h>
-#include <dieflow/wall_nodes.h>
+#include <dieflow/postprocess/summary.h>
+#include <dieflow/mesh/wall_nodes.h>
 
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>

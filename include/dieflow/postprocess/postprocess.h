@@ -2,8 +2,8 @@
 #define dieflow_postprocess_h
 
 #include <dieflow/boundary_conditions.h>
-#include <dieflow/material.h>
-#include <dieflow/wall_nodes.h>
+#include <dieflow/flow/material.h>
+#include <dieflow/mesh/wall_nodes.h>
 
 #include <deal.II/base/function.h>
 #include <deal.II/dofs/dof_handler.h>

@@ -1,5 +1,5 @@
-#include <dieflow/linear_solver.h>
-#include <dieflow/nonlinear_solver.h>
+#include <dieflow/solvers/linear_solver.h>
+#include <dieflow/solvers/nonlinear_solver.h>
 
 #include <cmath>
 #include <iomanip>

@@ -1,4 +1,4 @@
-#include <dieflow/geometry.h>
+#include <dieflow/mesh/geometry.h>
 
 #include <deal.II/base/utilities.h>
 #include <deal.II/grid/grid_generator.h>

@@ -1,4 +1,4 @@
-#include <dieflow/postprocess.h>
+#include <dieflow/postprocess/postprocess.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>

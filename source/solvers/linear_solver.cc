@@ -1,4 +1,4 @@
-#include <dieflow/linear_solver.h>
+#include <dieflow/solvers/linear_solver.h>
 
 #include <suitesparse/cholmod.h>
 #include <suitesparse/umfpack.h>

@@ -1,9 +1,9 @@
 #ifndef dieflow_linear_solver_h
 #define dieflow_linear_solver_h
 
-#include <dieflow/iterative_solver.h>
+#include <dieflow/solvers/iterative_solver.h>
 #include <dieflow/parameters.h>
-#include <dieflow/summary.h>
+#include <dieflow/postprocess/summary.h>
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>

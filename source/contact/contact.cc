@@ -1,4 +1,4 @@
-#include <dieflow/contact.h>
+#include <dieflow/contact/contact.h>
 
 #include <deal.II/base/utilities.h>
 

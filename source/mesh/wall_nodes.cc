@@ -1,4 +1,4 @@
-#include <dieflow/wall_nodes.h>
+#include <dieflow/mesh/wall_nodes.h>
 
 #include <deal.II/fe/fe.h>
 

@@ -1,7 +1,7 @@
 #ifndef dieflow_flow_assembler_h
 #define dieflow_flow_assembler_h
 
-#include <dieflow/material.h>
+#include <dieflow/flow/material.h>
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/symmetric_tensor.h>

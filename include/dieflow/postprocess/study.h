@@ -1,7 +1,7 @@
 #ifndef dieflow_study_h
 #define dieflow_study_h
 
-#include <dieflow/summary.h>
+#include <dieflow/postprocess/summary.h>
 
 #include <map>
 #include <ostream>

@@ -1,4 +1,4 @@
-#include <dieflow/iterative_solver.h>
+#include <dieflow/solvers/iterative_solver.h>
 
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
