@@ -21,16 +21,17 @@ install_missing() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+# "run" builds the program only; "test" also the test programs.
 build() {
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build -j"$(nproc)"
+  cmake --build build -j"$(nproc)" "$@"
 }
 
 case "${1:-}" in
   run)
     shift
     install_missing
-    build
+    build --target dieflow
     if [ $# -eq 0 ]; then set -- parameters/die2d.prm; fi
     ./build/dieflow "$@"
     ;;

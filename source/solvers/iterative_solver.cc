@@ -4,6 +4,10 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
 
+#include <mpi.h>
+
+#include <cstdlib>
+
 namespace dieflow
 {
   namespace
@@ -13,6 +17,24 @@ namespace dieflow
     /// is then faster than more Krylov steps.
     constexpr unsigned int max_iterations = 500;
   } // namespace
+
+
+
+  IterativeSolver::MpiOnFirstUse::MpiOnFirstUse()
+  {
+    int initialised = 0;
+    MPI_Initialized(&initialised);
+    if (initialised)
+      return;
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
+    std::atexit([]() {
+      int finalised = 0;
+      MPI_Finalized(&finalised);
+      if (!finalised)
+        MPI_Finalize();
+    });
+  }
 
 
 

@@ -48,6 +48,13 @@ namespace dieflow
           const double                        tolerance);
 
   private:
+    /// Initialises MPI if nobody has (Trilinos needs it even for one
+    /// process; the program does not initialise it, see main.cc) and
+    /// finalises it at exit. First member: the preconditioner needs MPI.
+    struct MpiOnFirstUse
+    {
+      MpiOnFirstUse();
+    } mpi;
     std::vector<std::vector<bool>>            constant_modes;
     dealii::TrilinosWrappers::PreconditionAMG preconditioner;
   };
