@@ -1,6 +1,7 @@
 #include <dieflow/expressions.h>
 #include <dieflow/postprocess/postprocess.h>
 #include <dieflow/problem.h>
+#include <dieflow/mesh/singular_points.h>
 
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -121,6 +122,15 @@ namespace dieflow
       }
     make_mesh(mesh_parameters, triangulation);
     check_boundary_ids(triangulation, assigned);
+    {
+      std::set<BoundaryId> walls = contact_parameters.die_ids;
+      walls.insert(boundary_conditions.slip_wall_ids.begin(), boundary_conditions.slip_wall_ids.end());
+      corners = wall_corners(triangulation, walls);
+      grade_towards(corners,
+                    mesh_parameters.corner_refinements,
+                    mesh_parameters.corner_width,
+                    triangulation);
+    }
     boundary_conditions.check_prescribed_fluxes(triangulation, !contact.empty());
     bool pressure_level_free = boundary_conditions.traction_free_ids.empty();
     for (const auto &[id, mask] : boundary_conditions.velocity_components)
@@ -138,6 +148,25 @@ namespace dieflow
                  "with the penalty factor and the mesh (doc/contact.md). Compare "
                  "velocities, not forces."
               << std::endl;
+      }
+    if (refinement.target_error > 0)
+      {
+        std::set<std::string> names;
+        for (const BoundaryId id : boundary_conditions.velocity_ids)
+          names.insert("F_x[" + std::to_string(id) + "]");
+        for (const BoundaryId id : contact_parameters.die_ids)
+          {
+            names.insert("F_n[" + std::to_string(id) + "]");
+            names.insert("F_t[" + std::to_string(id) + "]");
+          }
+        if (probe)
+          names.insert("v_x(probe)");
+        std::string known;
+        for (const auto &name : names)
+          known += (known.empty() ? "" : ", ") + name;
+        require(names.count(refinement.target_quantity) == 1,
+                "Refinement/Target quantity",
+                "'" + refinement.target_quantity + "' is not a quantity of this deck (it has " + known + ")");
       }
     require(!boundary_conditions.velocity_ids.empty(),
             "Boundary conditions/Prescribed velocity ids",
@@ -674,6 +703,51 @@ namespace dieflow
 
 
   template <int dim>
+  bool
+  DieFlowProblem<dim>::stop_at_target(RunSummary &summary) const
+  {
+    const CycleSummary &last = summary.cycles.back();
+    summary.target_quantity  = refinement.target_quantity;
+    summary.target_error     = refinement.target_error;
+    summary.target_reached   = false;
+    double value = 0, estimate = std::numeric_limits<double>::infinity();
+    for (const auto &[name, v] : last.quantities)
+      if (name == refinement.target_quantity)
+        value = v;
+    for (const auto &[name, e] : last.estimated_errors)
+      if (name == refinement.target_quantity)
+        estimate = e;
+    // The estimate needs three cycles (Extrapolation::estimate).
+    if (last.cycle >= 2 && estimate <= refinement.target_error * std::abs(value))
+      {
+        summary.target_reached = true;
+        log << "  target error reached: " << refinement.target_quantity << " = " << std::setprecision(6) << value
+            << " +- " << std::setprecision(2) << estimate << std::endl;
+        return true;
+      }
+    // Near Maximum cells the marking refines fewer and fewer cells: stop
+    // once a cycle has added less than a tenth.
+    const bool at_limit =
+      refinement.maximum_cells > 0 &&
+      (last.cells >= refinement.maximum_cells ||
+       (summary.cycles.size() > 1 && last.cells < 1.1 * summary.cycles[summary.cycles.size() - 2].cells));
+    if (at_limit)
+      {
+        log << "  target error NOT reached: " << refinement.target_quantity << " = " << std::setprecision(6) << value
+            << " +- " << std::setprecision(2) << estimate << " with " << triangulation.n_active_cells() << " cells, at Refinement/Maximum cells = "
+            << refinement.maximum_cells << std::endl;
+        return true;
+      }
+    if (last.cycle + 1 == refinement.cycles)
+      log << "  target error NOT reached in Refinement/Cycles = " << refinement.cycles << " cycles: "
+          << refinement.target_quantity << " = " << std::setprecision(6) << value << " +- " << std::setprecision(2)
+          << estimate << std::endl;
+    return false;
+  }
+
+
+
+  template <int dim>
   RunSummary
   DieFlowProblem<dim>::run()
   {
@@ -730,8 +804,11 @@ namespace dieflow
 
         postprocess(cycle_summary);
         cycle_summary.wall_time = cycle_timer.wall_time();
-        summary.cycles.push_back(cycle_summary);
         study.add(cycle_summary);
+        if (cycle > 0)
+          for (const auto &[name, e] : study.extrapolations())
+            cycle_summary.estimated_errors.emplace_back(name, e.estimate);
+        summary.cycles.push_back(cycle_summary);
 
         if (!result.converged)
           {
@@ -748,12 +825,25 @@ namespace dieflow
               << " direct fallbacks" << std::endl;
         summary.wall_time = run_timer.wall_time();
         write_summary_json(summary, summary_file);
+        if (refinement.target_error > 0 && stop_at_target(summary))
+          break;
       }
 
     summary.converged = summary.failure.empty();
     summary.wall_time = run_timer.wall_time();
     for (const auto &[name, e] : study.extrapolations())
-      summary.extrapolated.emplace_back(name, e.value, e.error, e.order);
+      {
+        QuantityEstimate q;
+        q.name                = name;
+        q.extrapolated        = e.value;
+        q.extrapolation_error = e.error;
+        q.order               = e.order;
+        q.estimate            = e.estimate;
+        for (const auto &[n, v] : summary.cycles.back().quantities)
+          if (n == name)
+            q.last = v;
+        summary.extrapolated.push_back(q);
+      }
     {
       std::ofstream table(run_parameters.output_directory + "/study.txt");
       study.write(table);
@@ -766,6 +856,7 @@ namespace dieflow
     summary.peak_memory_mb = memory.VmHWM / 1024.;
     write_summary_json(summary, summary_file);
 
+    write_result_summary(summary, log);
     log << "wall time " << std::fixed << std::setprecision(3) << summary.wall_time << " s:";
     for (const auto &[stage, seconds] : summary.stage_wall_time)
       log << ' ' << stage << ' ' << seconds;

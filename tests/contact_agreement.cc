@@ -24,7 +24,7 @@ namespace
   CycleSummary
   run(const std::string &contact_section)
   {
-    return run_deck_text("subsection Mesh\n subsection Die2d\n  set Cells across = 8\n end\nend\n"
+    return run_deck_text("subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n"
                          "subsection Contact\n" +
                          contact_section + "end\n")
       .cycles.back();

@@ -60,7 +60,7 @@ int
 main()
 {
   report("die2d N1 converges",
-         run_deck_text("subsection Mesh\n subsection Die2d\n  set Cells across = 8\n end\nend\n").converged);
+         run_deck_text("subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n").converged);
 
   const auto   container = profile("results/die-profile-3.dat");
   const auto   die       = profile("results/die-profile-4.dat");

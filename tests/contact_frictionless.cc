@@ -21,7 +21,7 @@ namespace
   CycleSummary
   run(const std::string &walls)
   {
-    return run_deck_text("subsection Mesh\n subsection Die2d\n  set Cells across = 8\n end\nend\n" + walls)
+    return run_deck_text("subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n" + walls)
       .cycles.back();
   }
 } // namespace

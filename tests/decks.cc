@@ -1,7 +1,8 @@
 // Every deck shipped in parameters/ runs and its result satisfies the laws
 // it must: converged, div v / grad v below 1e-5 (the penalty), the fluxes
 // over all boundary parts summing to zero up to the penalty's
-// compressibility (5e-5 of the inflow), the reactions to zero (1e-8, with
+// compressibility (5e-5 of the inflow; 1e-4 for N1p, see below), the
+// reactions to zero (1e-8, with
 // no body force), and, with contact, no penetration and no pulling die
 // (within the active set's dead band: 1e-6 of the largest normal force, so
 // a penetration rate of 1e-6 of the largest speed), friction within its
@@ -49,7 +50,11 @@ main()
           fy += f[1];
         }
       const double force_scale = std::abs(c.boundary_force.at(1)[0]) + std::abs(c.boundary_force.at(1)[1]);
-      const bool   ok = summary.converged && c.divergence_ratio < 1e-5 && std::abs(flux) < 5e-5 * inflow &&
+      // The penalty's compressibility loses the flux int p / lambda dx. In
+      // N1p only the penalty fixes the pressure level, some ten times the
+      // other decks' (ram force 24,400 against 2,470 N/mm), and so is the loss.
+      const double flux_tolerance = deck.stem() == "die2d-N1p" ? 1e-4 : 5e-5;
+      const bool   ok = summary.converged && c.divergence_ratio < 1e-5 && std::abs(flux) < flux_tolerance * inflow &&
                       std::abs(fx) + std::abs(fy) < 1e-8 * force_scale && c.contact_penetration < 1e-6 &&
                       c.contact_tension < 1e-6 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8 &&
                       c.friction_power < 1e-12;

@@ -26,7 +26,7 @@ using namespace dieflow;
 
 namespace
 {
-  const std::string coarse = "subsection Mesh\n subsection Die2d\n  set Cells across = 8\n end\nend\n";
+  const std::string coarse = "subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n";
   const std::string p1     = "subsection Material\n set Law = Norton-Hoff\n set Consistency K = 0.834\n"
                          " set Rate sensitivity m = 0.2\n set Minimum strain rate = 1e-4\nend\n";
 

@@ -24,7 +24,7 @@ namespace
   RunSummary
   run(const std::string &solver_section)
   {
-    return run_deck_text("subsection Mesh\n subsection Die2d\n  set Cells across = 4\n end\nend\n"
+    return run_deck_text("subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 4\n end\nend\n"
                          "subsection Material\n set Law = Norton-Hoff\nend\n"
                          "subsection Boundary conditions\n set Slip wall ids = 3, 4\nend\n"
                          "subsection Contact\n set Die ids =\n set Friction coefficients =\nend\n"

@@ -23,7 +23,7 @@ using namespace dieflow;
 
 namespace
 {
-  const std::string coarse = "subsection Mesh\n subsection Die2d\n  set Cells across = 8\n end\nend\n";
+  const std::string coarse = "subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n";
   const std::string no_contact =
     "subsection Boundary conditions\n set Slip wall ids = 3, 4\nend\nsubsection Contact\n set Die ids =\nend\n";
   const std::string outputs_off = "set Write gnuplot = false\nset Write mesh SVG = false\n";

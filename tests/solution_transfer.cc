@@ -22,10 +22,10 @@ using namespace dieflow;
 int
 main()
 {
-  const RunSummary warm = run_deck_text("subsection Mesh\n subsection Die2d\n  set Cells across = 8\n end\nend\n"
+  const RunSummary warm = run_deck_text("subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n"
                                         "subsection Refinement\n set Cycles = 2\nend\n");
   const RunSummary cold = run_deck_text("subsection Mesh\n set Global refinements = 1\n"
-                                        " subsection Die2d\n  set Cells across = 8\n end\nend\n");
+                                        " subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n");
   const CycleSummary &w = warm.cycles.back(), &c = cold.cycles.back();
   report("both converge on the same mesh", warm.converged && cold.converged && w.dofs == c.dofs);
   report("same solution (ram force to 1e-8)",

@@ -55,6 +55,14 @@ namespace dieflow
     RunSummary
     run();
 
+    /**
+     * With a Refinement/Target error, after a converged cycle: true when the
+     * estimated relative error of the target quantity is below the target
+     * (summary.target_reached), or when Maximum cells is reached (then not).
+     */
+    bool
+    stop_at_target(RunSummary &summary) const;
+
     StateChanges
     update_state(Vector<double> &v) override;
     double
@@ -219,6 +227,8 @@ namespace dieflow
     StudyTable                                  study;
     /// Where the velocity is reported as a quantity of interest (if any).
     std::optional<dealii::Point<dim>>           probe;
+    /// The corners of the walls (wall_corners()), where the mesh is graded.
+    std::vector<dealii::Point<dim>> corners;
     /// The contact results of the last cycle, for the die criterion.
     std::vector<ContactNodeResult<dim>>         contact_results;
   };

@@ -650,11 +650,17 @@ namespace dieflow
                              CycleSummary &                             summary) const
   {
     for (const auto id : parameters.die_ids)
-      summary.die_normal_force[id] = summary.die_friction_force[id] = 0;
+      {
+        summary.die_normal_force[id] = summary.die_friction_force[id] = 0;
+        summary.contact_length[id]   = {0, 0, 0};
+      }
     for (const auto &r : results)
       {
         summary.die_normal_force[r.id] += std::abs(r.normal_force);
         summary.die_friction_force[r.id] += std::abs(r.friction_force);
+        summary.contact_length[r.id][r.status == ContactStatus::separated ? 0 :
+                                     r.status == ContactStatus::stick     ? 1 :
+                                                                            2] += r.weight;
       }
     double largest_force = 0, largest_bound = 0, largest_friction = 0;
     for (const auto &r : results)

@@ -1,6 +1,7 @@
 #include <dieflow/mesh/refinement.h>
 
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/utilities.h>
 #include <deal.II/fe/fe.h>
 #include <deal.II/grid/grid_refinement.h>
 #include <deal.II/numerics/error_estimator.h>
@@ -61,7 +62,24 @@ namespace dieflow
     prm.declare_entry("Maximum cells",
                       "0",
                       Integer(0),
-                      "Stop refining beyond about this many cells (0: no limit).");
+                      "Stop refining beyond about this many cells (0: no limit); "
+                      "with a Target error, the run stops here and says that the "
+                      "target was not reached.");
+    prm.declare_entry("Target error",
+                      "0",
+                      Double(0, 1),
+                      "Relative error (0.001 = 0.1 %) at which the cycles stop: "
+                      "after each cycle from the third on, the estimated error of "
+                      "the Target quantity (from the changes over the last cycles, "
+                      "see the study table) is compared with it. Cycles is then the "
+                      "most cycles to run. 0: run all Cycles.");
+    prm.declare_entry("Target quantity",
+                      "F_x[1]",
+                      Anything(),
+                      "The quantity of interest the Target error applies to: "
+                      "F_x[id] (the force along x on a prescribed-velocity part; "
+                      "F_x[1] is die2d's ram force), F_n[id] or F_t[id] (the "
+                      "normal or friction force on a die id), or v_x(probe).");
     prm.leave_subsection();
   }
 
@@ -80,6 +98,12 @@ namespace dieflow
     die_band         = prm.get_double("Die band");
     die_weight       = prm.get_double("Die weight");
     maximum_cells    = prm.get_integer("Maximum cells");
+    target_error     = prm.get_double("Target error");
+    target_quantity  = dealii::Utilities::trim(prm.get("Target quantity"));
+    require(target_error == 0 || cycles >= 3,
+            "Refinement/Cycles",
+            "must be at least 3 with a Target error (the estimate needs three cycles); it is the most "
+            "cycles the run may take");
     require(refine_fraction + coarsen_fraction <= 1,
             "Refinement/Coarsen fraction",
             "and Refine fraction together exceed 1");

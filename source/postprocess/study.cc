@@ -3,6 +3,7 @@
 #include <deal.II/base/convergence_table.h>
 
 #include <cmath>
+#include <limits>
 #include <iomanip>
 
 namespace dieflow
@@ -44,6 +45,28 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// Extrapolation::estimate for the last of @p n >= 2 values.
+    double
+    error_estimate(const std::vector<double> &N, const std::vector<double> &Q, const Extrapolation &triple)
+    {
+      const unsigned int n      = Q.size();
+      const double       growth = N[n - 1] / N[n - 2];
+      if (!(growth > 1))
+        return std::numeric_limits<double>::infinity();
+      double change = std::abs(Q[n - 1] - Q[n - 2]);
+      double p      = 0.5;
+      if (triple.valid)
+        p = std::min(p, triple.order);
+      else if (n >= 3)
+        change = std::max(change, std::abs(Q[n - 2] - Q[n - 3]));
+      return change / (std::pow(growth, p) - 1);
+    }
+  } // namespace
+
+
+
   Extrapolation
   extrapolate(const std::vector<double> &N, const std::vector<double> &Q)
   {
@@ -51,8 +74,14 @@ namespace dieflow
     if (n == 0)
       return {};
     if (n < 3)
-      return {Q.back(), n == 2 ? std::abs(Q[1] - Q[0]) : 0., 0., false};
+      {
+        Extrapolation e{Q.back(), n == 2 ? std::abs(Q[1] - Q[0]) : 0., 0., false};
+        if (n == 2)
+          e.estimate = error_estimate(N, Q, e);
+        return e;
+      }
     Extrapolation last = from_triple(N[n - 3], N[n - 2], N[n - 1], Q[n - 3], Q[n - 2], Q[n - 1]);
+    last.estimate      = error_estimate(N, Q, last);
     if (last.valid && n >= 4)
       {
         const Extrapolation previous = from_triple(N[n - 4], N[n - 3], N[n - 2], Q[n - 4], Q[n - 3], Q[n - 2]);
@@ -61,6 +90,20 @@ namespace dieflow
       }
     return last;
   }
+
+
+
+  namespace
+  {
+    double
+    value_of(const CycleSummary &cycle, const std::string &name)
+    {
+      for (const auto &[n, v] : cycle.quantities)
+        if (n == name)
+          return v;
+      return 0;
+    }
+  } // namespace
 
 
 
@@ -133,9 +176,12 @@ namespace dieflow
     out << "extrapolated (Richardson, Q = Q* + C N^-p from the last three cycles):\n";
     for (const auto &[name, e] : extrapolations())
       {
+        const double last = cycles.back().quantities.empty() ? 0. : value_of(cycles.back(), name);
         out << "  " << std::setw(10) << std::left << name << std::right << " = " << std::setprecision(8) << e.value
             << " +- " << std::setprecision(2) << e.error << " (" << std::setprecision(2)
-            << (e.value != 0 ? 100 * e.error / std::abs(e.value) : 0.) << "%)";
+            << (e.value != 0 ? 100 * e.error / std::abs(e.value) : 0.) << "%); last value " << std::setprecision(8)
+            << last << ", its estimated error " << std::setprecision(2) << e.estimate << " ("
+            << (last != 0 ? 100 * e.estimate / std::abs(last) : 0.) << "%)";
         if (e.valid)
           out << ", order p = " << std::setprecision(3) << e.order << " in N";
         else

@@ -62,6 +62,56 @@ namespace dieflow
 
 
   void
+  write_result_summary(const RunSummary &summary, std::ostream &out)
+  {
+    if (summary.cycles.empty())
+      return;
+    const CycleSummary &last = summary.cycles.back();
+    std::map<std::string, QuantityEstimate> estimate;
+    if (summary.cycles.size() > 1)
+      for (const auto &e : summary.extrapolated)
+        estimate[e.name] = e;
+    const auto quantity = [&](const std::string &name, const std::string &unit) {
+      std::ostringstream text;
+      double             value = 0;
+      for (const auto &[n, v] : last.quantities)
+        if (n == name)
+          value = v;
+      text << std::setprecision(6) << value << ' ' << unit;
+      if (const auto e = estimate.find(name); e != estimate.end())
+        text << " +- " << std::setprecision(2) << e->second.estimate << " ("
+             << (value != 0 ? 100 * e->second.estimate / std::abs(value) : 0.) << " %)";
+      return text.str();
+    };
+    out << "result (cycle " << last.cycle << ", " << last.dofs << " dofs):\n";
+    for (const auto &[name, value] : last.quantities)
+      if (name.rfind("F_x[", 0) == 0)
+        out << "  force on prescribed-velocity part " << name.substr(4, name.size() - 5) << " (the ram), " << name << " = "
+            << quantity(name, "N/mm") << '\n';
+    for (const auto &[id, length] : last.contact_length)
+      {
+        const std::string i = std::to_string(id);
+        out << "  die id " << i << ": normal force F_n[" << i << "] = " << quantity("F_n[" + i + "]", "N/mm")
+            << "\n            friction force F_t[" << i << "] = " << quantity("F_t[" + i + "]", "N/mm")
+            << "\n            separated " << std::setprecision(4) << length[0] << " mm, stick " << length[1]
+            << " mm, slip " << length[2] << " mm\n";
+      }
+    for (const auto &[name, value] : last.quantities)
+      if (name == "v_x(probe)")
+        out << "  probe velocity v_x = " << quantity(name, "mm/s") << '\n';
+    if (summary.cycles.size() == 1)
+      out << "  (one cycle: no error estimate; run several Refinement/Cycles, or set a Refinement/Target error)\n";
+    else
+      out << "  (+- the estimated error of the last cycle's value, from the last cycles' changes: doc/user-guide.md)\n";
+    if (summary.target_reached)
+      out << "  target error " << std::setprecision(3) << 100 * summary.target_error << " % on "
+          << summary.target_quantity << (*summary.target_reached ? ": reached" : ": NOT reached") << '\n';
+    out << std::defaultfloat;
+  }
+
+
+
+  void
   write_summary_json(const RunSummary &summary, const std::string &file_name)
   {
     std::ofstream out(file_name);
@@ -77,11 +127,16 @@ namespace dieflow
         << "  \"extrapolated\": {";
     for (unsigned int i = 0; i < summary.extrapolated.size(); ++i)
       {
-        const auto &[name, value, error, order] = summary.extrapolated[i];
-        out << (i == 0 ? "" : ", ") << string(name) << ": {\"value\": " << number(value)
-            << ", \"error\": " << number(error) << ", \"order\": " << number(order) << "}";
+        const auto &e = summary.extrapolated[i];
+        out << (i == 0 ? "" : ", ") << string(e.name) << ": {\"value\": " << number(e.extrapolated)
+            << ", \"error\": " << number(e.extrapolation_error) << ", \"order\": " << number(e.order)
+            << ", \"last\": " << number(e.last) << ", \"estimated_error\": " << number(e.estimate) << "}";
       }
     out << "},\n";
+    if (summary.target_reached)
+      out << "  \"target_reached\": " << (*summary.target_reached ? "true" : "false") << ",\n"
+          << "  \"target\": {\"quantity\": " << string(summary.target_quantity)
+          << ", \"relative_error\": " << number(summary.target_error) << "},\n";
     if (!summary.failure.empty())
       out << "  \"failure\": " << string(summary.failure) << ",\n";
     out << "  \"cycles\": [";
@@ -118,6 +173,13 @@ namespace dieflow
             << "      \"contact_nodes\": {\"separated\": " << s.contact_nodes.separated
             << ", \"stick\": " << s.contact_nodes.stick << ", \"slip\": " << s.contact_nodes.slip
             << "},\n"
+            << "      \"contact_length\": "
+            << id_map(s.contact_length,
+                      [](const std::array<double, 3> &l) {
+                        return "{\"separated\": " + number(l[0]) + ", \"stick\": " + number(l[1]) +
+                               ", \"slip\": " + number(l[2]) + "}";
+                      })
+            << ",\n"
             << "      \"contact_checks\": {\"penetration\": " << number(s.contact_penetration)
             << ", \"tension\": " << number(s.contact_tension) << ", \"friction_excess\": "
             << number(s.friction_excess) << ", \"stick_slip_rate\": " << number(s.stick_slip_rate)
@@ -127,6 +189,11 @@ namespace dieflow
             << "      \"quantities\": {";
         for (unsigned int q = 0; q < s.quantities.size(); ++q)
           out << (q == 0 ? "" : ", ") << string(s.quantities[q].first) << ": " << number(s.quantities[q].second);
+        out << "},\n"
+            << "      \"estimated_errors\": {";
+        for (unsigned int q = 0; q < s.estimated_errors.size(); ++q)
+          out << (q == 0 ? "" : ", ") << string(s.estimated_errors[q].first) << ": "
+              << number(s.estimated_errors[q].second);
         out << "},\n"
             << "      \"error_estimate\": " << number(s.error_estimate)
             << ", \"die_cell_share\": " << number(s.die_cell_share)

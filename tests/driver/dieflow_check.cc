@@ -11,6 +11,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -59,6 +60,7 @@ namespace
     std::map<std::string, double> q;
     q["exit_status"] = exit_status;
     q["n_cycles"]    = summary.cycles.size();
+    q["target_reached"] = summary.target_reached ? double(*summary.target_reached) : std::nan("");
     const double nan = std::nan("");
     for (unsigned int c = 0; c < summary.cycles.size(); ++c)
       {
@@ -106,6 +108,17 @@ namespace
           cycle["die_normal_" + std::to_string(id)] = value;
         for (const auto &[id, value] : s.die_friction_force)
           cycle["die_friction_" + std::to_string(id)] = value;
+        // F_x[1] -> estimate_F_x_1, v_x(probe) -> estimate_v_x_probe
+        for (const auto &[name, value] : s.estimated_errors)
+          {
+            std::string key = "estimate_";
+            for (const char ch : name)
+              if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_')
+                key += ch;
+              else if (ch == '[' || ch == '(')
+                key += '_';
+            cycle[key] = value;
+          }
         for (const auto &[name, value] : cycle)
           {
             q[name + "_c" + std::to_string(c)] = value;

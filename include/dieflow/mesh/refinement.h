@@ -26,6 +26,10 @@ namespace dieflow
     double       die_band        = 0;
     double       die_weight      = 1;
     unsigned int maximum_cells   = 0;
+    /// Relative error at which the cycles stop (0: run every cycle), and
+    /// the quantity of interest it applies to.
+    double       target_error    = 0;
+    std::string  target_quantity = "F_x[1]";
 
     static void
     declare_parameters(ParameterHandler &prm);

@@ -4,6 +4,7 @@
 #include <dieflow/solvers/nonlinear_solver.h>
 #include <dieflow/parameters.h>
 
+#include <array>
 #include <map>
 #include <optional>
 #include <tuple>
@@ -35,6 +36,21 @@ namespace dieflow
     unsigned int lu_factorisations       = 0;
   };
 
+  /**
+   * A quantity of interest over the cycles of a run: its last value, the
+   * Richardson extrapolation Q* with its error and order, and the estimated
+   * error of the last value (Extrapolation::estimate in study.h).
+   */
+  struct QuantityEstimate
+  {
+    std::string name;
+    double      last         = 0;
+    double      extrapolated = 0;
+    double      extrapolation_error = 0;
+    double      order        = 0;
+    double      estimate     = 0;
+  };
+
   /// What one refinement cycle reports (interface.md, summary.json).
   struct CycleSummary
   {
@@ -61,6 +77,9 @@ namespace dieflow
     std::map<BoundaryId, double> die_normal_force;
     std::map<BoundaryId, double> die_friction_force;
     ContactCounts                contact_nodes;
+    /// Length (mm in 2D; area in 3D) of each die id that is separated,
+    /// sticking or slipping: the sum of the nodal boundary weights by state.
+    std::map<BoundaryId, std::array<double, 3>> contact_length;
     /// Contact inequalities of the result, dimensionless (0 when exact):
     /// largest v.n > 0 over the largest speed; largest pulling normal force
     /// over the largest normal force; largest |F_t| - bound over the largest
@@ -88,6 +107,9 @@ namespace dieflow
     double start_distance = 0;
     /// Kelly's global estimate of the velocity error, sqrt(sum eta_K^2).
     double error_estimate = 0;
+    /// The estimated error of each quantity of interest from the cycles up
+    /// to this one (empty on the first).
+    std::vector<std::pair<std::string, double>> estimated_errors;
     /// Share of the cells with a face on a contact id.
     double die_cell_share = 0;
     /// The penalty lambda and the mean viscosity it was made from.
@@ -107,9 +129,23 @@ namespace dieflow
     std::map<std::string, double> stage_wall_time;
     /// Peak resident memory of the process (MB).
     double peak_memory_mb = 0;
-    /// Richardson estimates of the quantities: name, value, error, order.
-    std::vector<std::tuple<std::string, double, double, double>> extrapolated;
+    /// Richardson estimates of the quantities (study.h).
+    std::vector<QuantityEstimate> extrapolated;
+    /// With a Refinement/Target error: whether the estimated relative error
+    /// of the target quantity fell below it.
+    std::optional<bool> target_reached;
+    std::string         target_quantity;
+    double              target_error = 0;
   };
+
+  /**
+   * The result a user runs the program for, on @p out: the force on each
+   * prescribed-velocity part (the ram), the normal and friction force and the
+   * separated / stick / slip lengths of each die id, the probe velocity, each
+   * with its Richardson estimate when several cycles ran.
+   */
+  void
+  write_result_summary(const RunSummary &summary, std::ostream &out);
 
   /// Writes @p summary as JSON (the summary.json contract of interface.md).
   void

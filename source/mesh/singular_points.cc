@@ -1,0 +1,117 @@
+#include <dieflow/mesh/singular_points.h>
+
+#include <cmath>
+#include <map>
+
+namespace dieflow
+{
+  namespace
+  {
+    /// Outward unit normal of a straight boundary face of @p cell.
+    template <int dim, typename CellIterator>
+    dealii::Tensor<1, dim>
+    outward_normal(const CellIterator &cell, const unsigned int f)
+    {
+      const auto             face = cell->face(f);
+      dealii::Tensor<1, dim> n;
+      if constexpr (dim == 2)
+        {
+          const auto t = face->vertex(1) - face->vertex(0);
+          n[0]         = t[1];
+          n[1]         = -t[0];
+        }
+      else
+        n = dealii::cross_product_3d(face->vertex(3) - face->vertex(0), face->vertex(2) - face->vertex(1));
+      if ((face->center() - cell->center()) * n < 0)
+        n *= -1;
+      return n / n.norm();
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  std::vector<dealii::Point<dim>>
+  wall_corners(const dealii::Triangulation<dim> &triangulation,
+               const std::set<BoundaryId> &      wall_ids,
+               const double                      angle_degrees)
+  {
+    struct Side
+    {
+      BoundaryId             id;
+      dealii::Tensor<1, dim> normal;
+    };
+    std::map<unsigned int, std::vector<Side>> sides;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            const Side side{cell->face(f)->boundary_id(), outward_normal<dim>(cell, f)};
+            for (const unsigned int v : cell->face(f)->vertex_indices())
+              sides[cell->face(f)->vertex_index(v)].push_back(side);
+          }
+
+    const double                    cos_angle = std::cos(angle_degrees * dealii::numbers::PI / 180);
+    std::vector<dealii::Point<dim>> corners;
+    for (const auto &[vertex, at] : sides)
+      {
+        bool on_wall = false, corner = false;
+        for (const auto &a : at)
+          {
+            on_wall |= wall_ids.count(a.id) > 0;
+            for (const auto &b : at)
+              corner |= a.id != b.id || a.normal * b.normal < cos_angle;
+          }
+        if (on_wall && corner)
+          corners.push_back(triangulation.get_vertices()[vertex]);
+      }
+    return corners;
+  }
+
+
+
+  template <int dim>
+  void
+  grade_towards(const std::vector<dealii::Point<dim>> &points,
+                const unsigned int                     levels,
+                const double                           width,
+                dealii::Triangulation<dim> &           triangulation)
+  {
+    for (unsigned int level = 0; level < levels && !points.empty(); ++level)
+      {
+        flag_cells_near(points, width, triangulation);
+        triangulation.execute_coarsening_and_refinement();
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  flag_cells_near(const std::vector<dealii::Point<dim>> &points,
+                  const double                           width,
+                  dealii::Triangulation<dim> &           triangulation)
+  {
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const auto &p : points)
+        if (cell->center().distance(p) <= (0.5 + width) * cell->diameter())
+          {
+            cell->clear_coarsen_flag();
+            cell->set_refine_flag();
+            break;
+          }
+  }
+
+  template std::vector<dealii::Point<2>>
+  wall_corners<2>(const dealii::Triangulation<2> &, const std::set<BoundaryId> &, double);
+  template std::vector<dealii::Point<3>>
+  wall_corners<3>(const dealii::Triangulation<3> &, const std::set<BoundaryId> &, double);
+  template void
+  flag_cells_near<2>(const std::vector<dealii::Point<2>> &, double, dealii::Triangulation<2> &);
+  template void
+  flag_cells_near<3>(const std::vector<dealii::Point<3>> &, double, dealii::Triangulation<3> &);
+  template void
+  grade_towards<2>(const std::vector<dealii::Point<2>> &, unsigned int, double, dealii::Triangulation<2> &);
+  template void
+  grade_towards<3>(const std::vector<dealii::Point<3>> &, unsigned int, double, dealii::Triangulation<3> &);
+} // namespace dieflow
