@@ -108,17 +108,21 @@ namespace
           cycle["die_normal_" + std::to_string(id)] = value;
         for (const auto &[id, value] : s.die_friction_force)
           cycle["die_friction_" + std::to_string(id)] = value;
-        // F_x[1] -> estimate_F_x_1, v_x(probe) -> estimate_v_x_probe
+        // The quantities of interest and their estimated errors:
+        // F_x[1] -> q_F_x_1 and estimate_F_x_1, v_x(probe) -> q_v_x_probe ...
+        const auto key = [](const std::string &prefix, const std::string &name) {
+          std::string k = prefix;
+          for (const char ch : name)
+            if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_')
+              k += ch;
+            else if (ch == '[' || ch == '(')
+              k += '_';
+          return k;
+        };
+        for (const auto &[name, value] : s.quantities)
+          cycle[key("q_", name)] = value;
         for (const auto &[name, value] : s.estimated_errors)
-          {
-            std::string key = "estimate_";
-            for (const char ch : name)
-              if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_')
-                key += ch;
-              else if (ch == '[' || ch == '(')
-                key += '_';
-            cycle[key] = value;
-          }
+          cycle[key("estimate_", name)] = value;
         for (const auto &[name, value] : cycle)
           {
             q[name + "_c" + std::to_string(c)] = value;

@@ -39,8 +39,10 @@ namespace dieflow
      * of a functional such as a boundary force falls at least as fast as the
      * energy-norm error, N^-1/2 for optimal Q1 meshes in 2D (uniform
      * refinement of a smooth solution: the estimate is three times the
-     * true error). Measured honest on die2d N1 and the exact cases
-     * (doc/verification.md). Zero with fewer than two cycles.
+     * true error). Measured honest for the die2d N1 and P1 forces from
+     * settled starts (doc/benchmarks.md); not for point values, which need
+     * not converge monotonically (doc/user-guide.md). Zero with fewer than
+     * two cycles.
      */
     double estimate = 0;
   };
