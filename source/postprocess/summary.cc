@@ -86,7 +86,7 @@ namespace dieflow
     out << "result (cycle " << last.cycle << ", " << last.dofs << " dofs):\n";
     for (const auto &[name, value] : last.quantities)
       if (name.rfind("F_x[", 0) == 0)
-        out << "  force on prescribed-velocity part " << name.substr(4, name.size() - 5) << " (the ram), " << name << " = "
+        out << "  force on prescribed-velocity part " << name.substr(4, name.size() - 5) << ", " << name << " = "
             << quantity(name, "N/mm") << '\n';
     for (const auto &[id, length] : last.contact_length)
       {
