@@ -122,15 +122,15 @@ namespace dieflow
       }
     make_mesh(mesh_parameters, triangulation);
     check_boundary_ids(triangulation, assigned);
-    {
-      std::set<BoundaryId> walls = contact_parameters.die_ids;
-      walls.insert(boundary_conditions.slip_wall_ids.begin(), boundary_conditions.slip_wall_ids.end());
-      corners = wall_corners(triangulation, walls);
-      grade_towards(corners,
-                    mesh_parameters.corner_refinements,
-                    mesh_parameters.corner_width,
-                    triangulation);
-    }
+    if (mesh_parameters.corner_refinements > 0)
+      {
+        std::set<BoundaryId> walls = contact_parameters.die_ids;
+        walls.insert(boundary_conditions.slip_wall_ids.begin(), boundary_conditions.slip_wall_ids.end());
+        grade_towards(wall_corners(triangulation, walls),
+                      mesh_parameters.corner_refinements,
+                      mesh_parameters.corner_width,
+                      triangulation);
+      }
     boundary_conditions.check_prescribed_fluxes(triangulation, !contact.empty());
     bool pressure_level_free = boundary_conditions.traction_free_ids.empty();
     for (const auto &[id, mask] : boundary_conditions.velocity_components)

@@ -227,8 +227,6 @@ namespace dieflow
     StudyTable                                  study;
     /// Where the velocity is reported as a quantity of interest (if any).
     std::optional<dealii::Point<dim>>           probe;
-    /// The corners of the walls (wall_corners()), where the mesh is graded.
-    std::vector<dealii::Point<dim>> corners;
     /// The contact results of the last cycle, for the die criterion.
     std::vector<ContactNodeResult<dim>>         contact_results;
   };

@@ -26,6 +26,23 @@ namespace dieflow
         n *= -1;
       return n / n.norm();
     }
+
+    /// One layer of grade_towards(): refine flags on the cells near @p points.
+    template <int dim>
+    void
+    flag_cells_near(const std::vector<dealii::Point<dim>> &points,
+                    const double                           width,
+                    dealii::Triangulation<dim> &           triangulation)
+    {
+      for (const auto &cell : triangulation.active_cell_iterators())
+        for (const auto &p : points)
+          if (cell->center().distance(p) <= (0.5 + width) * cell->diameter())
+            {
+              cell->clear_coarsen_flag();
+              cell->set_refine_flag();
+              break;
+            }
+    }
   } // namespace
 
 
@@ -86,30 +103,10 @@ namespace dieflow
 
 
 
-  template <int dim>
-  void
-  flag_cells_near(const std::vector<dealii::Point<dim>> &points,
-                  const double                           width,
-                  dealii::Triangulation<dim> &           triangulation)
-  {
-    for (const auto &cell : triangulation.active_cell_iterators())
-      for (const auto &p : points)
-        if (cell->center().distance(p) <= (0.5 + width) * cell->diameter())
-          {
-            cell->clear_coarsen_flag();
-            cell->set_refine_flag();
-            break;
-          }
-  }
-
   template std::vector<dealii::Point<2>>
   wall_corners<2>(const dealii::Triangulation<2> &, const std::set<BoundaryId> &, double);
   template std::vector<dealii::Point<3>>
   wall_corners<3>(const dealii::Triangulation<3> &, const std::set<BoundaryId> &, double);
-  template void
-  flag_cells_near<2>(const std::vector<dealii::Point<2>> &, double, dealii::Triangulation<2> &);
-  template void
-  flag_cells_near<3>(const std::vector<dealii::Point<3>> &, double, dealii::Triangulation<3> &);
   template void
   grade_towards<2>(const std::vector<dealii::Point<2>> &, unsigned int, double, dealii::Triangulation<2> &);
   template void

@@ -41,16 +41,6 @@ namespace dieflow
                 unsigned int                           levels,
                 double                                 width,
                 dealii::Triangulation<dim> &           triangulation);
-  /**
-   * Sets the refine flag of every active cell whose centre lies within
-   * (1/2 + @p width) of its diameter from one of @p points: one layer of
-   * grade_towards().
-   */
-  template <int dim>
-  void
-  flag_cells_near(const std::vector<dealii::Point<dim>> &points,
-                  double                                 width,
-                  dealii::Triangulation<dim> &           triangulation);
 } // namespace dieflow
 
 #endif
