@@ -17,15 +17,9 @@ dofs and time each sequence needs for 1 %, 0.2 % and 0.1 %.
 
 Not a test: the times are this machine's (run one benchmark at a time).
 """
-import argparse, json, os, subprocess, tempfile
+import argparse
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-PROGRAM = os.path.join(ROOT, "build", "dieflow")
-CONVERGED = {"N1": 2468.6, "P1": 82.66}
-MATERIAL = {
-    "N1": "  set Law = Newtonian\n  set Viscosity = 0.278\n",
-    "P1": "  set Law = Norton-Hoff\n  set Consistency K = 0.834\n  set Rate sensitivity m = 0.2\n",
-}
+from die2d_runs import CONVERGED, MATERIAL, reached, run as run_deck, table
 
 
 def deck(case, layout, across, corner_levels, cycles, strategy, fraction, output):
@@ -50,42 +44,7 @@ end
 
 
 def run(case, **settings):
-    with tempfile.TemporaryDirectory() as work:
-        path = os.path.join(work, "deck.prm")
-        with open(path, "w") as f:
-            f.write(deck(case, output=os.path.join(work, "out"), **settings))
-        status = subprocess.run([PROGRAM, path], stdout=subprocess.DEVNULL).returncode
-        if status not in (0, 2):
-            raise SystemExit(f"dieflow failed on {settings} (exit status {status})")
-        with open(os.path.join(work, "out", "summary.json")) as f:
-            summary = json.load(f)
-    rows, elapsed = [], 0.0
-    for c in summary["cycles"]:
-        if not c["converged"]:
-            print(f"\n(cycle {c['cycle']} of {settings} did not converge: the sequence stops there)")
-            break
-        elapsed += c["wall_time"]
-        rows.append(dict(dofs=c["dofs"], time=elapsed, its=c["nonlinear_iterations"],
-                         value=c["quantities"]["F_x[1]"],
-                         estimate=c["estimated_errors"].get("F_x[1]")))
-    return rows
-
-
-def table(title, rows, converged):
-    print(f"\n### {title}\n")
-    print("| dofs | wall time (cumulative) [s] | F_x[1] [N/mm] | error | estimated error | Newton its |")
-    print("|---|---|---|---|---|---|")
-    for r in rows:
-        estimate = "-" if r["estimate"] is None else f"{100 * r['estimate'] / abs(r['value']):.3f}%"
-        print(f"| {r['dofs']} | {r['time']:.2f} | {r['value']:.2f} | "
-              f"{100 * (r['value'] / converged - 1):+.3f}% | {estimate} | {r['its']} |")
-
-
-def reached(rows, converged, level):
-    for r in rows:
-        if abs(r["value"] / converged - 1) <= level:
-            return f"{r['dofs']} / {r['time']:.2f} s"
-    return "not reached"
+    return run_deck(lambda **kw: deck(case, **kw), settings)[0]
 
 
 def main():

@@ -6,7 +6,8 @@
 // iteration; then J w must equal (R(v + e w) - R(v - e w)) / 2e for any w
 // that respects the constraints. This checks the row transformation of the
 // slipping nodes (the friction force follows the normal reaction n.R_flow),
-// the stick penalty, the penalty normal force, and the condensation.
+// the stick penalty, the penalty normal force, and the condensation; for
+// velocity degree 1 and 2 (contact at the edge midpoints too).
 // Step e = 1e-6 |v|/|w|: truncation ~1e-12; round-off of R (penalty
 // lambda = 1e7 eta) ~1e-9 relative to R, divided by e: tolerance 1e-5.
 #include <dieflow/boundary_conditions.h>
@@ -16,6 +17,7 @@
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/mapping_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_pattern.h>
@@ -30,13 +32,14 @@ using namespace dieflow;
 namespace
 {
   void
-  check(const std::string &enforcement)
+  check(const std::string &normal_enforcement, const unsigned int degree)
   {
+    const std::string enforcement = degree == 1 ? normal_enforcement : normal_enforcement + ", Q2";
     ParameterHandler prm;
     declare_default_deck(prm);
     prm.parse_input_from_string("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\nend\n"
                                 "subsection Contact\n set Normal enforcement = " +
-                                enforcement + "\nend\n");
+                                normal_enforcement + "\nend\n");
     Material material;
     material.parse_parameters(prm);
     BoundaryConditions<2> bc;
@@ -48,7 +51,7 @@ namespace
     mesh.die2d.cells_across = 4;
     dealii::Triangulation<2> triangulation;
     make_mesh(mesh, triangulation);
-    dealii::FESystem<2> fe(dealii::FE_Q<2>(1), 2);
+    dealii::FESystem<2> fe(dealii::FE_Q<2>(degree), 2);
     DoFHandler<2>       dofs(triangulation);
     dofs.distribute_dofs(fe);
     AffineConstraints<double> hanging, prescribed, constraints, update_constraints;
@@ -78,14 +81,20 @@ namespace
     // A velocity like the die flow's, faster towards the exit, pressing on
     // the walls (v.n > 0: the active set keeps its walls, the penalty needs
     // penetration to push back).
-    Vector<double>       v(dofs.n_dofs());
+    Vector<double>        v(dofs.n_dofs());
     std::vector<Point<2>> support(dofs.n_dofs());
+    dealii::DoFTools::map_dofs_to_support_points(dealii::MappingQ<2>(1), dofs, support);
+    std::vector<dealii::types::global_dof_index> cell_dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dofs.active_cell_iterators())
-      for (const unsigned int vertex : cell->vertex_indices())
-        for (unsigned int d = 0; d < 2; ++d)
-          v[cell->vertex_dof_index(vertex, d)] =
-            d == 0 ? 190 + 30 * cell->vertex(vertex)[0] + 7 * std::sin(cell->vertex(vertex)[1]) :
-                     4 * cell->vertex(vertex)[1] + 3 * std::cos(cell->vertex(vertex)[0]);
+      {
+        cell->get_dof_indices(cell_dofs);
+        for (unsigned int i = 0; i < cell_dofs.size(); ++i)
+          {
+            const Point<2> &x = support[cell_dofs[i]];
+            v[cell_dofs[i]]   = fe.system_to_component_index(i).first == 0 ? 190 + 30 * x[0] + 7 * std::sin(x[1]) :
+                                                                            4 * x[1] + 3 * std::cos(x[0]);
+          }
+      }
     constraints.distribute(v);
 
     // Decide the states from v, as update_state() does, and freeze them.
@@ -141,6 +150,9 @@ namespace
 int
 main()
 {
-  check("active set");
-  check("penalty");
+  for (const unsigned int degree : {1, 2})
+    {
+      check("active set", degree);
+      check("penalty", degree);
+    }
 }

@@ -3,7 +3,8 @@
 // nonlinear laws: J w = (R(v + e w) - R(v - e w)) / (2e) + O(e^2). With
 // e = 1e-5 relative the truncation error is ~1e-10 and the round-off of R
 // (penalty 100 eta) ~1e-11: tolerance 1e-7. Also: the tangent is symmetric,
-// and the primal-dual tangent with S = D/r is the consistent one.
+// and the primal-dual tangent with S = D/r is the consistent one. For
+// velocity degree 1 (one-point penalty) and 2 (the P1disc-projected penalty).
 #include <dieflow/flow/flow_assembler.h>
 #include <dieflow/mesh/geometry.h>
 
@@ -23,8 +24,9 @@ using namespace dieflow;
 namespace
 {
   void
-  check_law(const std::string &deck, const std::string &name)
+  check_law(const std::string &deck, const std::string &law_name, const unsigned int degree)
   {
+    const std::string name = degree == 1 ? law_name : law_name + ", Q2";
     ParameterHandler prm;
     Material::declare_parameters(prm);
     prm.parse_input_from_string(deck);
@@ -39,7 +41,7 @@ namespace
     mesh.box.distortion = 0.25;
     dealii::Triangulation<2> triangulation;
     make_mesh(mesh, triangulation);
-    dealii::FESystem<2> fe(dealii::FE_Q<2>(1), 2);
+    dealii::FESystem<2> fe(dealii::FE_Q<2>(degree), 2);
     DoFHandler<2>       dof_handler(triangulation);
     dof_handler.distribute_dofs(fe);
     AffineConstraints<double> none;
@@ -97,9 +99,14 @@ namespace
 int
 main()
 {
-  check_law("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\n"
-            " set Minimum strain rate = 1e-3\nend\n",
-            "Norton-Hoff m = 0.3");
-  check_law("subsection Material\n set Law = Sellars-Tegart\n set Minimum strain rate = 1e-3\nend\n",
-            "Sellars-Tegart");
+  for (const unsigned int degree : {1, 2})
+    {
+      check_law("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\n"
+                " set Minimum strain rate = 1e-3\nend\n",
+                "Norton-Hoff m = 0.3",
+                degree);
+      check_law("subsection Material\n set Law = Sellars-Tegart\n set Minimum strain rate = 1e-3\nend\n",
+                "Sellars-Tegart",
+                degree);
+    }
 }

@@ -111,8 +111,9 @@ namespace dieflow
      * of the paper's (8) becomes -(q + r div v), r = 'Augmentation factor'
      * x eta (per cell) about 1e3 eta instead of lambda = 1e7 eta, and before each
      * nonlinear iteration the cell multiplier takes its Uzawa step
-     *   q <- q + r div v   (div v at the cell centre).
-     * At the fixed point div v = 0 at every centre: the incompressible
+     *   q <- q + r P div v   (P: the centre value for degree 1, the P1disc
+     *                         projection for degree 2, PressureProjection).
+     * At the fixed point P div v = 0 in every cell: the incompressible
      * solution, which the penalty method approaches to O(eta/lambda). The
      * iteration stops when, besides the residual, the divergence ratio is
      * below 'Divergence tolerance'.

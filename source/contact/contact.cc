@@ -818,7 +818,8 @@ namespace dieflow
         for (const auto &dir : node.directions)
           if (dir.active)
             s = std::max(s, static_cast<int>(node.n_held() >= dim && !uses_penalty() ? ContactStatus::stick : dir.status));
-        status[node.vertex] = s;
+        if (node.vertex != dealii::numbers::invalid_unsigned_int) // not an edge node
+          status[node.vertex] = s;
       }
     return status;
   }

@@ -1,4 +1,5 @@
 #include <dieflow/flow/flow_assembler.h>
+#include <dieflow/flow/pressure_projection.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>
@@ -15,10 +16,13 @@ namespace dieflow
     {
       ScratchData(const dealii::FiniteElement<dim> &fe)
         : viscous(fe,
-                  dealii::QGauss<dim>(2),
+                  dealii::QGauss<dim>(fe.degree + 1),
                   dealii::update_values | dealii::update_gradients |
                     dealii::update_JxW_values | dealii::update_quadrature_points)
         , centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values)
+        , projection(fe)
+        , divergence_coefficients(projection.n_modes())
+        , cell_stress(projection.n_modes())
         , symmetric_gradients(fe.n_dofs_per_cell())
         , strain_projections(fe.n_dofs_per_cell())
         , dual_projections(fe.n_dofs_per_cell())
@@ -32,6 +36,9 @@ namespace dieflow
 
       dealii::FEValues<dim>                             viscous;
       dealii::FEValues<dim>                             centre;
+      PressureProjection<dim>                           projection;
+      dealii::Vector<double>                            divergence_coefficients;
+      dealii::Vector<double>                            cell_stress;
       std::vector<dealii::SymmetricTensor<2, dim>>      symmetric_gradients;
       std::vector<double>                               strain_projections;
       std::vector<double>                               dual_projections;
@@ -48,11 +55,15 @@ namespace dieflow
                          dealii::FullMatrix<double> *                        matrix,
                          dealii::Vector<double> &                            residual)
     {
-      for (const unsigned int v : dealii::GeometryInfo<dim>::vertex_indices())
+      // Every node of the cell (vertices, and edge and cell nodes for degree 2).
+      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
         {
+          if (fe.system_to_component_index(i).first != 0)
+            continue;
+          const unsigned int node = fe.system_to_component_index(i).second;
           unsigned int rows[dim];
           for (unsigned int d = 0; d < dim; ++d)
-            rows[d] = fe.component_to_system_index(d, v);
+            rows[d] = fe.component_to_system_index(d, node);
           const auto found = transforms.find(dofs[rows[0]]);
           if (found == transforms.end())
             continue;
@@ -89,6 +100,78 @@ namespace dieflow
       dealii::Vector<double>                       residual;
       std::vector<dealii::types::global_dof_index> dofs;
     };
+
+    /// lambda div v div w at the cell centre, and q div w (Q1-P0).
+    template <int dim, typename CellIterator>
+    void
+    add_centre_penalty(const CellIterator &          cell,
+                       const double                  lambda,
+                       const dealii::Vector<double> *multiplier,
+                       ScratchData<dim> &            scratch,
+                       CopyData &                    copy,
+                       const bool                    with_matrix)
+    {
+      const dealii::FEValuesExtractors::Vector velocities(0);
+      const unsigned int                       dofs_per_cell = copy.dofs.size();
+      scratch.centre.reinit(cell);
+      const double JxW        = scratch.centre.JxW(0);
+      double       divergence = 0;
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        divergence += scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0);
+      const unsigned int c           = cell->active_cell_index();
+      const double       cell_stress = lambda * divergence + (multiplier != nullptr ? (*multiplier)[c] : 0.);
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        {
+          const double div_i = scratch.centre[velocities].divergence(i, 0);
+          copy.residual[i] += cell_stress * div_i * JxW;
+          if (with_matrix)
+            for (unsigned int j = 0; j <= i; ++j)
+              copy.matrix(i, j) += lambda * div_i * scratch.centre[velocities].divergence(j, 0) * JxW;
+        }
+    }
+
+    /**
+     * lambda (P div v)(P div w) with P the L2 projection onto P1disc, and
+     * q_h div w for a multiplier q_h in the same space: B^T (lambda c + q)
+     * with c = M^-1 B v, and the matrix lambda B^T M^-1 B (lower triangle).
+     */
+    template <int dim, typename CellIterator>
+    void
+    add_projected_penalty(const CellIterator &          cell,
+                          const double                  lambda,
+                          const dealii::Vector<double> *multiplier,
+                          ScratchData<dim> &            scratch,
+                          CopyData &                    copy,
+                          const bool                    with_matrix)
+    {
+      auto &             projection    = scratch.projection;
+      const unsigned int n_modes       = projection.n_modes();
+      const unsigned int dofs_per_cell = copy.dofs.size();
+      projection.reinit(cell);
+      projection.project(scratch.local_velocity, scratch.divergence_coefficients);
+      const unsigned int first = cell->active_cell_index() * n_modes;
+      for (unsigned int m = 0; m < n_modes; ++m)
+        scratch.cell_stress[m] =
+          lambda * scratch.divergence_coefficients[m] + (multiplier != nullptr ? (*multiplier)[first + m] : 0.);
+      const auto &B    = projection.divergence_matrix();
+      const auto &Minv = projection.inverse_mass();
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        for (unsigned int m = 0; m < n_modes; ++m)
+          copy.residual[i] += B(m, i) * scratch.cell_stress[m];
+      if (!with_matrix)
+        return;
+      // (M^-1 B) once, then B^T (M^-1 B).
+      dealii::FullMatrix<double> MinvB(n_modes, dofs_per_cell);
+      Minv.mmult(MinvB, B);
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        for (unsigned int j = 0; j <= i; ++j)
+          {
+            double sum = 0;
+            for (unsigned int m = 0; m < n_modes; ++m)
+              sum += B(m, i) * MinvB(m, j);
+            copy.matrix(i, j) += lambda * sum;
+          }
+    }
   } // namespace
 
 
@@ -166,7 +249,7 @@ namespace dieflow
           // symmetrises; with S = S^ both agree.
           const double newton_factor = newton ? 4. / 3. * value.d_eta * value.rate : 0.;
           const auto   S_hat         = D / value.rate;
-          const auto & S = (newton && use_dual) ? dual[dual_index(cell, q)] : S_hat;
+          const auto & S = (newton && use_dual) ? dual[cell->active_cell_index() * viscous.n_quadrature_points + q] : S_hat;
           for (unsigned int i = 0; i < dofs_per_cell; ++i)
             {
               scratch.strain_projections[i] = S_hat * scratch.symmetric_gradients[i];
@@ -182,24 +265,11 @@ namespace dieflow
                 JxW;
         }
 
-      // Penalty term at the cell centre.
-      scratch.centre.reinit(cell);
-      const double JxW        = scratch.centre.JxW(0);
-      double       divergence = 0;
-      for (unsigned int i = 0; i < dofs_per_cell; ++i)
-        divergence += scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0);
-      const unsigned int c       = cell->active_cell_index();
-      const double       lambda  = (cell_penalty != nullptr) ? (*cell_penalty)[c] : penalty;
-      const double cell_stress = lambda * divergence + (multiplier != nullptr ? (*multiplier)[c] : 0.);
-      for (unsigned int i = 0; i < dofs_per_cell; ++i)
-        {
-          const double div_i = scratch.centre[velocities].divergence(i, 0);
-          copy.residual[i] += cell_stress * div_i * JxW;
-          if (matrix != nullptr)
-            for (unsigned int j = 0; j <= i; ++j)
-              copy.matrix(i, j) +=
-                lambda * div_i * scratch.centre[velocities].divergence(j, 0) * JxW;
-        }
+      const double lambda = (cell_penalty != nullptr) ? (*cell_penalty)[cell->active_cell_index()] : penalty;
+      if (fe.degree == 1)
+        add_centre_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr);
+      else
+        add_projected_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr);
 
       if (matrix != nullptr)
         for (unsigned int i = 0; i < dofs_per_cell; ++i)
@@ -275,7 +345,7 @@ namespace dieflow
                                      const Vector<double> & velocity) const
   {
     dealii::FEValues<dim> fe_values(dof_handler.get_fe(),
-                                    dealii::QGauss<dim>(2),
+                                    dealii::QGauss<dim>(dof_handler.get_fe().degree + 1),
                                     dealii::update_gradients | dealii::update_JxW_values);
     const dealii::FEValuesExtractors::Vector     velocities(0);
     std::vector<dealii::SymmetricTensor<2, dim>> D(fe_values.n_quadrature_points);
@@ -297,7 +367,7 @@ namespace dieflow
   unsigned int
   FlowAssembler<dim>::n_dual_points(const DoFHandler<dim> &dof_handler) const
   {
-    return dof_handler.get_triangulation().n_active_cells() * dealii::QGauss<dim>(2).size();
+    return dof_handler.get_triangulation().n_active_cells() * dealii::QGauss<dim>(dof_handler.get_fe().degree + 1).size();
   }
 
 
@@ -309,7 +379,7 @@ namespace dieflow
                                   const Vector<double> * update,
                                   const double           step)
   {
-    dealii::FEValues<dim> fe_values(dof_handler.get_fe(), dealii::QGauss<dim>(2), dealii::update_gradients);
+    dealii::FEValues<dim> fe_values(dof_handler.get_fe(), dealii::QGauss<dim>(dof_handler.get_fe().degree + 1), dealii::update_gradients);
     const dealii::FEValuesExtractors::Vector     velocities(0);
     std::vector<dealii::SymmetricTensor<2, dim>> D(fe_values.n_quadrature_points),
       dD(fe_values.n_quadrature_points);
@@ -325,7 +395,7 @@ namespace dieflow
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
             const double rate = material->evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).rate;
-            auto &       S    = dual[dual_index(cell, q)];
+            auto &       S    = dual[cell->active_cell_index() * fe_values.n_quadrature_points + q];
             if (reset)
               S = D[q] / rate;
             else

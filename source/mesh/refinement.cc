@@ -117,7 +117,7 @@ namespace dieflow
   kelly_estimate(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity)
   {
     dealii::Vector<float> eta(dof_handler.get_triangulation().n_active_cells());
-    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(2), {}, velocity, eta);
+    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1), {}, velocity, eta);
     return eta.l2_norm();
   }
 
@@ -183,7 +183,7 @@ namespace dieflow
           indicator[cell->active_cell_index()] = chi[cell->active_cell_index()] * cell->measure();
         return indicator;
       }
-    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(2), {}, velocity, indicator);
+    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1), {}, velocity, indicator);
     if (parameters.indicator == "combined")
       for (unsigned int i = 0; i < indicator.size(); ++i)
         indicator[i] *= 1 + parameters.die_weight * chi[i];

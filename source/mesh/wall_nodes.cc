@@ -1,6 +1,8 @@
 #include <dieflow/mesh/wall_nodes.h>
 
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe.h>
+#include <deal.II/fe/mapping.h>
 
 #include <cmath>
 #include <map>
@@ -55,6 +57,52 @@ namespace dieflow
 
 
   template <int dim>
+  std::vector<FaceNode<dim>>
+  face_nodes(const typename DoFHandler<dim>::active_cell_iterator &cell,
+             const unsigned int                                    face_no,
+             dealii::FEFaceValues<dim> &                           face_values)
+  {
+    const auto &       fe               = cell->get_fe();
+    const unsigned int vertex_dofs_end  = fe.n_dofs_per_vertex() * cell->n_vertices();
+    const auto         face             = cell->face(face_no);
+    std::vector<GlobalDof> dofs(fe.n_dofs_per_cell());
+    cell->get_dof_indices(dofs);
+    if (fe.degree > 1)
+      face_values.reinit(cell, face_no);
+
+    std::vector<FaceNode<dim>> nodes;
+    for (unsigned int j = 0; j < fe.n_dofs_per_cell(); ++j)
+      if (fe.system_to_component_index(j).first == 0 && fe.has_support_on_face(j, face_no))
+        {
+          FaceNode<dim>      node;
+          const unsigned int index = fe.system_to_component_index(j).second;
+          for (unsigned int d = 0; d < dim; ++d)
+            node.dofs[d] = dofs[fe.component_to_system_index(d, index)];
+          node.vertex = j < vertex_dofs_end ? cell->vertex_index(j / fe.n_dofs_per_vertex()) :
+                                              dealii::numbers::invalid_unsigned_int;
+          if (fe.degree == 1)
+            {
+              // Exact for affine faces, as the quadrature would be, and
+              // without its round-off.
+              node.weight   = face->measure() / face->n_vertices();
+              node.position = cell->vertex(j / fe.n_dofs_per_vertex());
+            }
+          else
+            {
+              node.weight = 0;
+              for (const unsigned int q : face_values.quadrature_point_indices())
+                node.weight += face_values.shape_value(j, q) * face_values.JxW(q);
+              node.position = face_values.get_mapping().transform_unit_to_real_cell(
+                cell, fe.get_unit_support_points()[j]);
+            }
+          nodes.push_back(node);
+        }
+    return nodes;
+  }
+
+
+
+  template <int dim>
   std::vector<WallNode<dim>>
   collect_wall_nodes(const DoFHandler<dim> &           dof_handler,
                      const std::set<BoundaryId> &      ids,
@@ -65,6 +113,9 @@ namespace dieflow
     std::map<GlobalDof, WallNode<dim>> nodes; // keyed by the x-velocity dof
     std::vector<std::tuple<GlobalDof, Tensor<1, dim>, BoundaryId, double, std::array<dealii::Point<dim>, dim>>>
       hanging;
+    dealii::FEFaceValues<dim> face_values(dof_handler.get_fe(),
+                                          dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
+                                          dealii::update_values | dealii::update_JxW_values);
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
@@ -72,36 +123,32 @@ namespace dieflow
           {
             const auto           face   = cell->face(f);
             const Tensor<1, dim> normal = outward_normal<dim>(cell, f);
-            // Exact for affine faces: each vertex's basis function integrates
-            // to measure / (number of vertices).
-            const double weight = face->measure() / face->n_vertices();
             // For the contact element: a segment in 2D, three vertices of
             // the facet's plane in 3D.
             std::array<dealii::Point<dim>, dim> facet;
             for (unsigned int d = 0; d < dim; ++d)
               facet[d] = face->vertex(d);
-            for (const unsigned int v : face->vertex_indices())
+            for (const auto &face_node : face_nodes<dim>(cell, f, face_values))
               {
-                const GlobalDof first = face->vertex_dof_index(v, 0);
+                const GlobalDof first = face_node.dofs[0];
                 if (hanging_node_constraints.is_constrained(first))
                   {
-                    hanging.emplace_back(first, normal, face->boundary_id(), weight, facet);
+                    hanging.emplace_back(first, normal, face->boundary_id(), face_node.weight, facet);
                     continue;
                   }
                 auto &node = nodes[first];
                 if (node.directions.empty())
                   {
-                    for (unsigned int d = 0; d < dim; ++d)
-                      node.dofs[d] = face->vertex_dof_index(v, d);
-                    node.position = face->vertex(v);
-                    node.vertex   = face->vertex_index(v);
+                    node.dofs     = face_node.dofs;
+                    node.position = face_node.position;
+                    node.vertex   = face_node.vertex;
                   }
-                add_to_directions<dim>(node.directions, normal, face->boundary_id(), weight, facet, cos_corner);
+                add_to_directions<dim>(node.directions, normal, face->boundary_id(), face_node.weight, facet, cos_corner);
               }
           }
 
-    // A hanging vertex's share of the boundary integral belongs to the
-    // vertices it hangs from (same coefficients as its constraint).
+    // A hanging node's share of the boundary integral belongs to the
+    // nodes it hangs from (same coefficients as its constraint).
     for (const auto &[dof, normal, id, weight, facet] : hanging)
       for (const auto &[parent, coefficient] : *hanging_node_constraints.get_constraint_entries(dof))
         {
@@ -180,6 +227,8 @@ namespace dieflow
       }
   }
 
+  template std::vector<FaceNode<2>>
+  face_nodes<2>(const DoFHandler<2>::active_cell_iterator &, const unsigned int, dealii::FEFaceValues<2> &);
   template std::vector<WallNode<2>>
   collect_wall_nodes<2>(const DoFHandler<2> &, const std::set<BoundaryId> &, const AffineConstraints<double> &, const double);
   template void

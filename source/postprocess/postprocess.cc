@@ -1,3 +1,4 @@
+#include <dieflow/flow/pressure_projection.h>
 #include <dieflow/postprocess/postprocess.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -22,7 +23,7 @@ namespace dieflow
       flux[id] = 0;
 
     dealii::FEFaceValues<dim> fe_face(dof_handler.get_fe(),
-                                      dealii::QGauss<dim - 1>(2),
+                                      dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
                                       dealii::update_values | dealii::update_normal_vectors |
                                         dealii::update_JxW_values);
     const dealii::FEValuesExtractors::Vector velocities(0);
@@ -62,20 +63,19 @@ namespace dieflow
       std::map<BoundaryId, double>        weight;
     };
     std::map<GlobalDof, NodeParts> nodes;
+    dealii::FEFaceValues<dim>      face_values(dof_handler.get_fe(),
+                                          dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
+                                          dealii::update_values | dealii::update_JxW_values);
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (cell->face(f)->at_boundary() &&
             boundary_conditions.traction_free_ids.count(cell->face(f)->boundary_id()) == 0)
-          {
-            const auto face = cell->face(f);
-            for (const unsigned int v : face->vertex_indices())
-              {
-                auto &node = nodes[face->vertex_dof_index(v, 0)];
-                for (unsigned int d = 0; d < dim; ++d)
-                  node.dofs[d] = face->vertex_dof_index(v, d);
-                node.weight[face->boundary_id()] += face->measure();
-              }
-          }
+          for (const auto &face_node : face_nodes<dim>(cell, f, face_values))
+            {
+              auto &node = nodes[face_node.dofs[0]];
+              node.dofs  = face_node.dofs;
+              node.weight[cell->face(f)->boundary_id()] += cell->face(f)->measure();
+            }
 
     std::map<GlobalDof, const WallNode<dim> *> wall_node_of;
     for (const auto &node : wall_nodes)
@@ -153,20 +153,28 @@ namespace dieflow
   divergence_ratio(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
     const dealii::FEValuesExtractors::Vector velocities(0);
-    dealii::FEValues<dim> centre(dof_handler.get_fe(),
-                                 dealii::QGauss<dim>(1),
-                                 dealii::update_gradients | dealii::update_JxW_values);
-    dealii::FEValues<dim> gauss(dof_handler.get_fe(),
-                                dealii::QGauss<dim>(2),
-                                dealii::update_gradients | dealii::update_JxW_values);
-    std::vector<double>                 div(1);
-    std::vector<Tensor<2, dim>>         grad(gauss.n_quadrature_points);
-    double                              div_squared = 0, grad_squared = 0;
+    const auto &                             fe = dof_handler.get_fe();
+    dealii::FEValues<dim> centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values);
+    dealii::FEValues<dim> gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values);
+    PressureProjection<dim>              projection(fe);
+    const Vector<double>                 coefficients = cell_divergence(dof_handler, velocity);
+    std::vector<double>                  div(1);
+    std::vector<Tensor<2, dim>>          grad(gauss.n_quadrature_points);
+    double                               div_squared = 0, grad_squared = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
-        centre.reinit(cell);
-        centre[velocities].get_function_divergences(velocity, div);
-        div_squared += div[0] * div[0] * centre.JxW(0);
+        if (fe.degree == 1)
+          {
+            centre.reinit(cell);
+            centre[velocities].get_function_divergences(velocity, div);
+            div_squared += div[0] * div[0] * centre.JxW(0);
+          }
+        else
+          {
+            projection.reinit(cell);
+            div_squared +=
+              projection.square_integral(coefficients.begin() + cell->active_cell_index() * projection.n_modes());
+          }
         gauss.reinit(cell);
         gauss[velocities].get_function_gradients(velocity, grad);
         for (const unsigned int q : gauss.quadrature_point_indices())
@@ -185,7 +193,7 @@ namespace dieflow
   {
     const auto &      triangulation = dof_handler.get_triangulation();
     Vector<float>     per_cell(triangulation.n_active_cells());
-    const dealii::QGauss<dim> quadrature(3);
+    const dealii::QGauss<dim> quadrature(dof_handler.get_fe().degree + 2);
     dealii::VectorTools::integrate_difference(
       dof_handler, velocity, exact, per_cell, quadrature, dealii::VectorTools::L2_norm);
     const double l2 = dealii::VectorTools::compute_global_error(triangulation, per_cell, dealii::VectorTools::L2_norm);
@@ -202,6 +210,8 @@ namespace dieflow
   Vector<double>
   cell_divergence(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
+    if (dof_handler.get_fe().degree > 1)
+      return PressureProjection<dim>::project_all(dof_handler, velocity);
     const dealii::FEValuesExtractors::Vector velocities(0);
     dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients);
     std::vector<double>   div(1);
@@ -225,9 +235,11 @@ namespace dieflow
                 const Vector<double> * multiplier,
                 const Vector<double> * cell_penalty)
   {
-    Vector<double> pressure = cell_divergence(dof_handler, velocity);
+    Vector<double>     pressure = cell_divergence(dof_handler, velocity);
+    const unsigned int n_modes  = pressure.size() / dof_handler.get_triangulation().n_active_cells();
     if (cell_penalty != nullptr)
-      pressure.scale(*cell_penalty);
+      for (unsigned int i = 0; i < pressure.size(); ++i)
+        pressure[i] *= (*cell_penalty)[i / n_modes];
     else
       pressure *= penalty;
     pressure *= -1.;
@@ -317,13 +329,25 @@ namespace dieflow
     DoFHandler<dim>          scalar_dofs(triangulation);
     scalar_dofs.distribute_dofs(scalar_fe);
 
+    // Each cell's pressure at its vertices, averaged with the cells' areas
+    // as weights.
+    PressureProjection<dim> projection(dof_handler.get_fe());
+    const unsigned int      n_modes = projection.n_modes();
+    Vector<double>          p_mean(triangulation.n_active_cells());
     std::vector<double>  p_sum(triangulation.n_vertices(), 0.), volume(triangulation.n_vertices(), 0.);
-    for (const auto &cell : triangulation.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        {
-          p_sum[cell->vertex_index(v)] += p_cell[cell->active_cell_index()] * cell->measure();
-          volume[cell->vertex_index(v)] += cell->measure();
-        }
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        const double *coefficients = p_cell.begin() + cell->active_cell_index() * n_modes;
+        p_mean[cell->active_cell_index()] = coefficients[0];
+        if (n_modes > 1)
+          projection.reinit(cell);
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            const double p = n_modes > 1 ? projection.value(coefficients, cell->vertex(v)) : coefficients[0];
+            p_sum[cell->vertex_index(v)] += p * cell->measure();
+            volume[cell->vertex_index(v)] += cell->measure();
+          }
+      }
     for (unsigned int i = 0; i < p_sum.size(); ++i)
       if (volume[i] > 0)
         p_sum[i] /= volume[i];
@@ -346,8 +370,9 @@ namespace dieflow
         extra.push_back(vertex_field_to_q1(scalar_dofs, per_vertex));
         data_out.add_data_vector(scalar_dofs, extra.back(), name);
       }
-    data_out.add_data_vector(p_cell, "cell_pressure", dealii::DataOut<dim>::type_cell_data);
-    data_out.build_patches();
+    data_out.add_data_vector(p_mean, "cell_pressure", dealii::DataOut<dim>::type_cell_data);
+    // Degree 2: each cell subdivided, so the output shows the curved field.
+    data_out.build_patches(dof_handler.get_fe().degree);
 
     const std::string stem = "solution-" + dealii::Utilities::int_to_string(cycle, 2);
     if (vtu)

@@ -39,12 +39,14 @@ namespace dieflow
 
   /**
    * The cell terms of the penalised velocity problem (7)-(9) of the paper:
-   *   R(v; w) = int 2 eta(epsdot(v)) D(v):D(w) dx            (2x2 Gauss)
-   *           + int lambda div v div w dx                     (1 point)
+   *   R(v; w) = int 2 eta(epsdot(v)) D(v):D(w) dx        (Gauss, degree + 1 points)
+   *           + int lambda (P div v)(P div w) dx
    *           - int f.w dx,
-   * i.e. sigma = 2 eta D + lambda (div v) I, p = -lambda div v. The penalty
-   * term is integrated at the cell centre only (selective reduced
-   * integration, the Q1-P0 element): full integration locks.
+   * i.e. sigma = 2 eta D + lambda (P div v) I, p = -lambda P div v, with P
+   * the projection of PressureProjection: for velocity degree 1 div v at
+   * the cell centre (selective reduced integration, the paper's Q1-P0
+   * element; full integration locks), for degree 2 the L2 projection onto
+   * linear functions per cell (the stable Q2-P1disc pair).
    *
    * Newton tangent, with epsdot_reg = sqrt(2/3 D:D + epsdot_min^2):
    *   dR[dv](w) = int 2 eta D(dv):D(w)
@@ -116,9 +118,10 @@ namespace dieflow
     }
 
     /**
-     * The augmented-Lagrangian form: a multiplier q per active cell joins
-     * the penalty pressure, sigma = 2 eta D + (q + r div v) I, so the
-     * residual gains int q div w (one point) and the Jacobian is unchanged
+     * The augmented-Lagrangian form: a multiplier q_h in the pressure space
+     * (PressureProjection::n_modes() coefficients per active cell) joins
+     * the penalty pressure, sigma = 2 eta D + (q_h + r P div v) I, so the
+     * residual gains int q_h div w and the Jacobian is unchanged
      * (r = get_penalty()); null: the plain penalty method.
      */
     void
@@ -177,13 +180,6 @@ namespace dieflow
 
     unsigned int
     n_dual_points(const DoFHandler<dim> &dof_handler) const;
-
-    template <typename CellIterator>
-    static unsigned int
-    dual_index(const CellIterator &cell, const unsigned int q)
-    {
-      return cell->active_cell_index() * (dim == 2 ? 4 : 8) + q;
-    }
 
     const Material *             material;
     Tangent                      tangent = Tangent::primal_dual;

@@ -6,6 +6,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/affine_constraints.h>
 
 #include <array>
@@ -36,7 +37,33 @@ namespace dieflow
   };
 
   /**
-   * A vertex on the walls (slip walls, symmetry lines, die contact parts):
+   * A node of a boundary face as the velocity element sees it: a vertex,
+   * or for degree 2 also an edge midpoint; its velocity dofs, position, the
+   * integral of its basis function over the face (positive for Q1 and Q2:
+   * h/2; h/6 at the vertices and 2h/3 at the midpoint), and the vertex
+   * index of the triangulation (invalid for a midpoint).
+   */
+  template <int dim>
+  struct FaceNode
+  {
+    std::array<GlobalDof, dim> dofs;
+    dealii::Point<dim>         position;
+    double                     weight;
+    unsigned int               vertex;
+  };
+
+  /**
+   * The nodes of face @p face_no of @p cell, with weights from
+   * @p face_values (the cell's FE with QGauss(degree + 1), reinit'ed here).
+   */
+  template <int dim>
+  std::vector<FaceNode<dim>>
+  face_nodes(const typename DoFHandler<dim>::active_cell_iterator &cell,
+             const unsigned int                                    face_no,
+             dealii::FEFaceValues<dim> &                           face_values);
+
+  /**
+   * A node on the walls (slip walls, symmetry lines, die contact parts):
    * its velocity dofs and the distinct facet normals that meet there.
    *
    * Facets whose normals differ by less than the corner angle are one
@@ -53,14 +80,16 @@ namespace dieflow
   {
     std::array<GlobalDof, dim>        dofs;
     dealii::Point<dim>                position;
+    /// The vertex of the triangulation, or invalid_unsigned_int (an edge node).
     unsigned int                      vertex;
     std::vector<WallDirection<dim>>   directions;
   };
 
   /**
-   * Collects the wall nodes on the faces with the given boundary ids. Hanging
-   * vertices (constrained in @p hanging_node_constraints) are not nodes:
-   * their weights go to the vertices they hang from.
+   * Collects the wall nodes on the faces with the given boundary ids (every
+   * node of the velocity element: for degree 2 the edge midpoints too).
+   * Hanging nodes (constrained in @p hanging_node_constraints) are not
+   * nodes: their weights go to the nodes they hang from.
    */
   template <int dim>
   std::vector<WallNode<dim>>

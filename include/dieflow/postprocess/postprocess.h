@@ -42,9 +42,10 @@ namespace dieflow
                   const std::vector<WallNode<dim>> &wall_nodes);
 
   /**
-   * ||div v|| / ||grad v|| in L2, with div v at the cell centres: what the
-   * one-point penalty controls (the cell mean of div v on parallelograms, the
-   * discrete mass balance of the Q1-P0 pair).
+   * ||P div v|| / ||grad v|| in L2, P the projection of the penalty term
+   * (PressureProjection): what the penalty controls. Degree 1: div v at the
+   * cell centres (the cell mean of div v on parallelograms, the discrete
+   * mass balance of the Q1-P0 pair); degree 2: the P1disc projection.
    */
   template <int dim>
   double
@@ -57,13 +58,16 @@ namespace dieflow
                   const Vector<double> &         velocity,
                   const dealii::Function<dim> &  exact);
 
-  /// div v at each cell centre (what the one-point penalty term sees).
+  /// The coefficients of P div v per cell (PressureProjection::n_modes()
+  /// each): degree 1 div v at the cell centre (what the one-point penalty
+  /// term sees), degree 2 the P1disc projection.
   template <int dim>
   Vector<double>
   cell_divergence(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
 
-  /// Pressure p = -(q + lambda div v) at each cell centre (q: the
-  /// augmented-Lagrangian multiplier, if any; lambda per cell if given).
+  /// Pressure p = -(q + lambda P div v), its coefficients per cell as
+  /// cell_divergence() (q: the augmented-Lagrangian multiplier, if any;
+  /// lambda per cell if given).
   template <int dim>
   Vector<double>
   cell_pressure(const DoFHandler<dim> &dof_handler,
@@ -73,9 +77,10 @@ namespace dieflow
                 const Vector<double> * cell_penalty);
 
   /**
-   * Writes velocity, pressure (the cell-centre pressure given, and its
-   * area-weighted average at the vertices, which filters the checkerboard
-   * mode of Q1-P0), equivalent strain rate and stress, and viscosity as
+   * Writes velocity, pressure (the cell mean of the pressure given as
+   * cell_pressure() coefficients, and the area-weighted average of the
+   * cells' values at each vertex, which filters the checkerboard mode of
+   * Q1-P0), equivalent strain rate and stress, and viscosity as
    * VTU (appended to the PVD index of the run) and/or gnuplot.
    */
   template <int dim>

@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Velocity degree 1 (Q1-P0, the paper's element) against degree 2
+(Q2-P1disc) on die2d: ram-force error against dofs and cumulative wall time
+of one run, Kelly-adaptive cycles from graded starts (Mesh/Corner
+refinements), for N1 and P1. Errors are against the converged ram force
+(N1: 2468.6 +- 0.6 N/mm, the 2.6M-dof degree-1 run of doc/benchmarks.md,
+which the degree-2 sequence here confirms by extrapolation; P1: 82.66 +-
+0.10). Prints one table per sequence (dofs, cumulative time, value, error,
+the estimated error the program prints, Newton iterations), and the dofs and
+time each sequence needs for 1 %, 0.1 %, 0.05 % and 0.01 %.
+
+    python3 benchmarks/die2d_degree.py [--case N1|P1] [--quick]
+
+Not a test: the times are this machine's (run one benchmark at a time).
+"""
+import argparse
+
+from die2d_runs import CONVERGED, MATERIAL, reached, run as run_deck, table
+
+LEVELS = (0.01, 0.001, 0.0005, 0.0001)
+
+
+def deck(case, degree, across, corner_levels, cycles, marking, fraction, output):
+    return f"""set Output directory = {output}
+set Write VTU = false
+subsection Mesh
+  set Corner refinements = {corner_levels}
+  subsection Die2d
+    set Cells across = {across}
+  end
+end
+subsection Material
+{MATERIAL[case]}end
+subsection Discretisation
+  set Velocity degree = {degree}
+end
+subsection Refinement
+  set Cycles = {cycles}
+  set Strategy = adaptive
+  set Indicator = kelly
+  set Marking = {marking}
+  set Refine fraction = {fraction}
+end
+"""
+
+
+def run(case, **settings):
+    return run_deck(lambda **kw: deck(case, **kw), settings)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--case", default="N1", choices=sorted(CONVERGED))
+    parser.add_argument("--quick", action="store_true", help="fewer cycles")
+    args = parser.parse_args()
+    converged = CONVERGED[args.case]
+    extra = 0 if args.quick else 4
+
+    sequences = [
+        ("degree 1, 8 across, 5 corner levels, Kelly fixed fraction 0.5 (the default deck)",
+         dict(degree=1, across=8, corner_levels=5, marking="fixed fraction", fraction=0.5, cycles=6 + extra)),
+        ("degree 2, 8 across, 5 corner levels, Kelly fixed fraction 0.5",
+         dict(degree=2, across=8, corner_levels=5, marking="fixed fraction", fraction=0.5, cycles=8 + extra)),
+        ("degree 2, 4 across, 5 corner levels, Kelly fixed number 0.3",
+         dict(degree=2, across=4, corner_levels=5, marking="fixed number", fraction=0.3, cycles=7 + extra)),
+        ("degree 2, 4 across, 7 corner levels, Kelly fixed number 0.3",
+         dict(degree=2, across=4, corner_levels=7, marking="fixed number", fraction=0.3, cycles=7 + extra)),
+    ]
+    summary = []
+    for title, settings in sequences:
+        rows, extrapolated = run(args.case, **settings)
+        table(f"{args.case}, {title}", rows, converged, digits=3)
+        if extrapolated:
+            print(f"\nextrapolated from the last three cycles: {extrapolated['value']:.3f} "
+                  f"+- {extrapolated['error']:.3f} (order {extrapolated['order']:.2f} in N)")
+        summary.append((title, [reached(rows, converged, level) for level in LEVELS]))
+    print(f"\n### {args.case}: dofs / cumulative wall time to reach the error\n")
+    print("| sequence | " + " | ".join(f"{100 * level:g} %" for level in LEVELS) + " |")
+    print("|---|" + "---|" * len(LEVELS))
+    for title, cells in summary:
+        print(f"| {title} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()

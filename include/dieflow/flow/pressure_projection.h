@@ -1,0 +1,104 @@
+#ifndef dieflow_pressure_projection_h
+#define dieflow_pressure_projection_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <vector>
+
+namespace dieflow
+{
+  /**
+   * The discontinuous pressure space of the penalty term, per cell K, and
+   * the L2 projection P of div v onto it: the penalty reads
+   *   int lambda (P div v)(P div w) dx = lambda (B_K v)^T M_K^-1 (B_K w),
+   *   B_K[m][i] = int_K psi_m div phi_i dx,  M_K[m][n] = int_K psi_m psi_n dx,
+   * and the pressure is p = -lambda P div v (paper, eq. (8)).
+   *
+   * Velocity degree 1 (the paper's Q1-P0): psi_0 = 1 and one quadrature
+   * point at the cell centre, so P div v = div v(centre), the selective
+   * reduced integration of the seed paper.
+   *
+   * Velocity degree 2 (the inf-sup stable Q2-P1disc pair): psi = 1,
+   * (x - x_K)/h_K, (y - y_K)/h_K [, (z - z_K)/h_K] in real coordinates,
+   * x_K the centroid and h_K = |K|^(1/dim), integrated with 3x3 Gauss
+   * points (exact for the trapezoids of straight-sided meshes). A P1 basis
+   * mapped from the reference cell would lose an order of accuracy on cells
+   * that are not parallelograms (Arnold, Boffi, Falk, Math. Comp. 71
+   * (2002) 909), and die2d's cells are trapezoids. With psi_1.. of zero
+   * mean, the first coefficient is the cell mean.
+   */
+  template <int dim>
+  class PressureProjection
+  {
+  public:
+    explicit PressureProjection(const dealii::FiniteElement<dim> &fe);
+
+    PressureProjection(const PressureProjection &other)
+      : PressureProjection(other.fe_values.get_fe())
+    {}
+
+    /// Coefficients per cell: 1 (degree 1) or dim + 1 (degree 2).
+    unsigned int
+    n_modes() const
+    {
+      return modes;
+    }
+
+    /// The same, for a velocity element.
+    static unsigned int
+    n_modes_for(const dealii::FiniteElement<dim> &fe)
+    {
+      return fe.degree == 1 ? 1 : dim + 1;
+    }
+
+    /// B_K, M_K^-1, the centroid and h_K of @p cell.
+    void
+    reinit(const typename dealii::DoFHandler<dim>::active_cell_iterator &cell);
+
+    /// B_K (n_modes x dofs per cell), for the last reinit().
+    const dealii::FullMatrix<double> &
+    divergence_matrix() const
+    {
+      return B;
+    }
+
+    /// M_K^-1, for the last reinit().
+    const dealii::FullMatrix<double> &
+    inverse_mass() const
+    {
+      return M_inverse;
+    }
+
+    /// The coefficients of P div v on the cell from its local dof values.
+    void
+    project(const std::vector<double> &local_velocity, dealii::Vector<double> &coefficients) const;
+
+    /// The value at @p x of the field with the given coefficients on the cell.
+    double
+    value(const double *coefficients, const dealii::Point<dim> &x) const;
+
+    /// The integral of the square of that field over the cell.
+    double
+    square_integral(const double *coefficients) const;
+
+    /// The coefficients of P div v on every active cell, cell after cell.
+    static dealii::Vector<double>
+    project_all(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity);
+
+  private:
+    unsigned int               modes;
+    dealii::FEValues<dim>      fe_values;
+    dealii::FullMatrix<double> B;
+    dealii::FullMatrix<double> M_inverse;
+    dealii::FullMatrix<double> M;
+    dealii::Point<dim>         centroid;
+    double                     h = 1;
+  };
+} // namespace dieflow
+
+#endif

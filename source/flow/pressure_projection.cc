@@ -1,0 +1,138 @@
+#include <dieflow/flow/pressure_projection.h>
+
+#include <cmath>
+
+namespace dieflow
+{
+  namespace
+  {
+    template <int dim>
+    dealii::Quadrature<dim>
+    projection_quadrature(const dealii::FiniteElement<dim> &fe)
+    {
+      // Degree 1: the one-point rule of the Q1-P0 element; degree 2: exact
+      // for psi_m div phi_i on straight-sided cells.
+      return dealii::QGauss<dim>(fe.degree == 1 ? 1 : fe.degree + 1);
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  PressureProjection<dim>::PressureProjection(const dealii::FiniteElement<dim> &fe)
+    : modes(n_modes_for(fe))
+    , fe_values(fe,
+                projection_quadrature(fe),
+                dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points)
+    , B(modes, fe.n_dofs_per_cell())
+    , M_inverse(modes, modes)
+    , M(modes, modes)
+  {}
+
+
+
+  template <int dim>
+  void
+  PressureProjection<dim>::reinit(const typename dealii::DoFHandler<dim>::active_cell_iterator &cell)
+  {
+    fe_values.reinit(cell);
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    const unsigned int                       n_dofs = fe_values.get_fe().n_dofs_per_cell();
+
+    double volume = 0;
+    centroid      = dealii::Point<dim>();
+    for (const unsigned int q : fe_values.quadrature_point_indices())
+      {
+        volume += fe_values.JxW(q);
+        centroid += fe_values.JxW(q) * fe_values.quadrature_point(q);
+      }
+    centroid /= volume;
+    h = std::pow(volume, 1. / dim);
+
+    B = 0;
+    M = 0;
+    std::vector<double> psi(modes);
+    for (const unsigned int q : fe_values.quadrature_point_indices())
+      {
+        const auto &x = fe_values.quadrature_point(q);
+        psi[0]        = 1;
+        for (unsigned int m = 1; m < modes; ++m)
+          psi[m] = (x[m - 1] - centroid[m - 1]) / h;
+        const double JxW = fe_values.JxW(q);
+        for (unsigned int m = 0; m < modes; ++m)
+          {
+            for (unsigned int n = 0; n < modes; ++n)
+              M(m, n) += psi[m] * psi[n] * JxW;
+            for (unsigned int i = 0; i < n_dofs; ++i)
+              B(m, i) += psi[m] * fe_values[velocities].divergence(i, q) * JxW;
+          }
+      }
+    M_inverse.invert(M);
+  }
+
+
+
+  template <int dim>
+  void
+  PressureProjection<dim>::project(const std::vector<double> &local_velocity, dealii::Vector<double> &coefficients) const
+  {
+    coefficients.reinit(modes);
+    dealii::Vector<double> Bv(modes);
+    for (unsigned int m = 0; m < modes; ++m)
+      for (unsigned int i = 0; i < B.n(); ++i)
+        Bv[m] += B(m, i) * local_velocity[i];
+    M_inverse.vmult(coefficients, Bv);
+  }
+
+
+
+  template <int dim>
+  double
+  PressureProjection<dim>::value(const double *coefficients, const dealii::Point<dim> &x) const
+  {
+    double result = coefficients[0];
+    for (unsigned int m = 1; m < modes; ++m)
+      result += coefficients[m] * (x[m - 1] - centroid[m - 1]) / h;
+    return result;
+  }
+
+
+
+  template <int dim>
+  double
+  PressureProjection<dim>::square_integral(const double *coefficients) const
+  {
+    double result = 0;
+    for (unsigned int m = 0; m < modes; ++m)
+      for (unsigned int n = 0; n < modes; ++n)
+        result += coefficients[m] * M(m, n) * coefficients[n];
+    return result;
+  }
+
+
+
+  template <int dim>
+  dealii::Vector<double>
+  PressureProjection<dim>::project_all(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity)
+  {
+    PressureProjection<dim> projection(dof_handler.get_fe());
+    const unsigned int      n_modes = projection.n_modes();
+    dealii::Vector<double>  result(dof_handler.get_triangulation().n_active_cells() * n_modes);
+    std::vector<dealii::types::global_dof_index> dofs(dof_handler.get_fe().n_dofs_per_cell());
+    std::vector<double>                          local(dofs.size());
+    dealii::Vector<double>                       coefficients(n_modes);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        projection.reinit(cell);
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          local[i] = velocity[dofs[i]];
+        projection.project(local, coefficients);
+        for (unsigned int m = 0; m < n_modes; ++m)
+          result[cell->active_cell_index() * n_modes + m] = coefficients[m];
+      }
+    return result;
+  }
+
+  template class PressureProjection<2>;
+} // namespace dieflow
