@@ -57,14 +57,12 @@ def main():
     extra = 0 if args.quick else 4
 
     sequences = [
-        ("degree 1, 8 across, 5 corner levels, Kelly fixed fraction 0.5 (the default deck)",
+        ("degree 1, 8 across, 5 corner levels, Kelly fraction 0.5 (the degree-1 recipe)",
          dict(degree=1, across=8, corner_levels=5, marking="fixed fraction", fraction=0.5, cycles=6 + extra)),
-        ("degree 2, 8 across, 5 corner levels, Kelly fixed fraction 0.5",
+        ("degree 2, 8 across, 5 corner levels, Kelly fraction 0.5",
          dict(degree=2, across=8, corner_levels=5, marking="fixed fraction", fraction=0.5, cycles=8 + extra)),
-        ("degree 2, 4 across, 5 corner levels, Kelly fixed number 0.3",
-         dict(degree=2, across=4, corner_levels=5, marking="fixed number", fraction=0.3, cycles=7 + extra)),
-        ("degree 2, 4 across, 7 corner levels, Kelly fixed number 0.3",
-         dict(degree=2, across=4, corner_levels=7, marking="fixed number", fraction=0.3, cycles=7 + extra)),
+        ("degree 2, 8 across, 8 corner levels, Kelly fraction 0.5 (the default deck, which stops at the fourth cycle)",
+         dict(degree=2, across=8, corner_levels=8, marking="fixed fraction", fraction=0.5, cycles=9 + extra)),
     ]
     summary = []
     for title, settings in sequences:

@@ -69,7 +69,7 @@ def main():
          dict(layout="blocks", across=4, corner_levels=0, fraction=0.3, cycles=cycles + 6)),
         ("adaptive Kelly from the bisected start (8 across, fraction 0.5)",
          dict(layout="bisected", across=8, corner_levels=0, fraction=0.5, cycles=cycles)),
-        ("adaptive Kelly from the graded start (bisected, 8 across, 5 corner levels, fraction 0.5): the default deck",
+        ("adaptive Kelly from the graded start (bisected, 8 across, 5 corner levels, fraction 0.5): the degree-1 recipe",
          dict(layout="bisected", across=8, corner_levels=5, fraction=0.5, cycles=cycles)),
     ]
     summary = []

@@ -61,6 +61,22 @@ namespace dieflow
                         Anything(),
                         "Boundary ids with zero traction (sigma n = 0), such as a "
                         "free outlet.");
+      prm.declare_entry("Traction ids",
+                        "",
+                        Anything(),
+                        "Boundary ids with a prescribed traction sigma n = t (N/mm^2), "
+                        "the expression 'Traction' (a back tension, an exact "
+                        "solution's outlet).");
+      prm.declare_entry("Traction",
+                        dim == 2 ? "0; 0" : "0; 0; 0",
+                        Anything(),
+                        "The traction t = sigma n (n the outward normal; a tension "
+                        "pulls outwards) on the Traction ids: one expression in "
+                        "x, y[, z] per component, separated by ';'.");
+      prm.declare_entry("Traction constants",
+                        "",
+                        Anything(),
+                        "Constants for the traction expressions: 'a=1, b=2'.");
       prm.declare_entry("Wall corner angle",
                         "10",
                         Double(0, 90),
@@ -127,6 +143,10 @@ namespace dieflow
     symmetry_ids  = parse_id_list(section + "Symmetry ids", prm.get("Symmetry ids"));
     slip_wall_ids = parse_id_list(section + "Slip wall ids", prm.get("Slip wall ids"));
     traction_free_ids = parse_id_list(section + "Traction free ids", prm.get("Traction free ids"));
+    traction_ids      = parse_id_list(section + "Traction ids", prm.get("Traction ids"));
+    traction          = parse_vector_expression<dim>(section + "Traction",
+                                            prm.get("Traction"),
+                                            prm.get("Traction constants"));
     corner_angle  = prm.get_double("Wall corner angle");
 
     body_force = parse_vector_expression<dim>(section + "Body force",
@@ -170,6 +190,7 @@ namespace dieflow
     check(symmetry_ids, "Symmetry ids");
     check(slip_wall_ids, "Slip wall ids");
     check(traction_free_ids, "Traction free ids");
+    check(traction_ids, "Traction ids");
   }
 
 
@@ -211,6 +232,7 @@ namespace dieflow
     add(symmetry_ids, "Symmetry ids");
     add(slip_wall_ids, "Slip wall ids");
     add(traction_free_ids, "Traction free ids");
+    add(traction_ids, "Traction ids");
     return assigned;
   }
 
@@ -260,7 +282,7 @@ namespace dieflow
   BoundaryConditions<dim>::check_prescribed_fluxes(const dealii::Triangulation<dim> &triangulation,
                                                    const bool                        walls_can_open) const
   {
-    if (!traction_free_ids.empty() || walls_can_open)
+    if (!traction_free_ids.empty() || !traction_ids.empty() || walls_can_open)
       return;
     const dealii::FE_Q<dim>   geometry(1);
     dealii::FEFaceValues<dim> face_values(geometry,

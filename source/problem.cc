@@ -137,6 +137,8 @@ namespace dieflow
                             FlowAssembler<dim>::Tangent::primal_dual);
     if (boundary_conditions.has_body_force)
       assembler.set_body_force(boundary_conditions.body_force.get());
+    if (!boundary_conditions.traction_ids.empty())
+      assembler.set_traction(boundary_conditions.traction.get(), boundary_conditions.traction_ids);
 
     auto assigned = boundary_conditions.assigned_ids();
     for (const BoundaryId id : contact_parameters.die_ids)
@@ -160,7 +162,8 @@ namespace dieflow
                       triangulation);
       }
     boundary_conditions.check_prescribed_fluxes(triangulation, !contact.empty());
-    bool pressure_level_free = boundary_conditions.traction_free_ids.empty();
+    bool pressure_level_free =
+      boundary_conditions.traction_free_ids.empty() && boundary_conditions.traction_ids.empty();
     for (const auto &[id, mask] : boundary_conditions.velocity_components)
       pressure_level_free &= (mask.n_selected_components() == dim);
     if (!contact.empty() && pressure_level_free)
@@ -549,7 +552,8 @@ namespace dieflow
 
     Material newtonian = material;
     newtonian.set_newtonian(start_viscosity);
-    FlowAssembler<dim> start(newtonian, assembler.body_force_function());
+    FlowAssembler<dim> start(newtonian, nullptr);
+    start.copy_loads(assembler);
     start.set_penalty(penalty_factor() * start_viscosity);
     contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity);
     {
@@ -589,7 +593,9 @@ namespace dieflow
     assembler.assemble_residual(dof_handler, velocity, update_constraints, unused, raw_residual);
     Vector<double> reactions = raw_residual;
     hanging_node_constraints.condense(reactions);
-    summary.boundary_force   = boundary_forces(dof_handler, reactions, boundary_conditions, wall_nodes);
+    std::vector<WallShare<dim>> wall_shares;
+    summary.boundary_force =
+      boundary_forces(dof_handler, reactions, boundary_conditions, wall_nodes, frictionless_walls(), &wall_shares);
     summary.divergence_ratio = divergence_ratio(dof_handler, velocity);
     summary.penalty          = assembler.get_penalty();
     summary.mean_viscosity   = mean_viscosity;
@@ -610,6 +616,7 @@ namespace dieflow
         contact_results    = contact.results(velocity);
         const auto &results = contact_results;
         contact.summarise(results, velocity.linfty_norm(), summary);
+        add_die_shares(wall_shares, summary);
         contact.write_profiles(results, run_parameters.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
         const double inflow            = -boundary_conditions_inflow(summary.flux);
@@ -660,6 +667,50 @@ namespace dieflow
                           dealii::Utilities::int_to_string(summary.cycle, 2) + ".svg");
         dealii::GridOut().write_svg(triangulation, svg);
       }
+  }
+
+
+
+  template <int dim>
+  std::set<BoundaryId>
+  DieFlowProblem<dim>::frictionless_walls() const
+  {
+    std::set<BoundaryId> ids = boundary_conditions.wall_ids();
+    for (const BoundaryId id : contact_parameters.die_ids)
+      {
+        const auto   m      = contact_parameters.tresca_factor.find(id);
+        const double bound  = contact_parameters.law == FrictionLaw::Kind::tresca ?
+                                (m == contact_parameters.tresca_factor.end() ? 0. : m->second) :
+                                contact.friction_coefficient(id);
+        if (bound == 0)
+          ids.insert(id);
+      }
+    return ids;
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::add_die_shares(const std::vector<WallShare<dim>> &shares, CycleSummary &summary) const
+  {
+    // The node belongs to the prescribed part, not to the contact set, but
+    // the die carries its share of it: |f.n| and |f - (f.n) n|, as the
+    // contact nodes' forces are counted.
+    const auto frictionless = frictionless_walls();
+    for (const auto &share : shares)
+      if (contact_parameters.die_ids.count(share.id))
+        for (const auto &node : wall_nodes)
+          if (node.dofs[0] == share.first_dof)
+            for (const auto &direction : node.directions)
+              if (direction.id == share.id)
+                {
+                  const double normal = share.force * direction.normal;
+                  summary.die_normal_force[share.id] += std::abs(normal);
+                  if (!frictionless.count(share.id))
+                    summary.die_friction_force[share.id] += (share.force - normal * direction.normal).norm();
+                  break;
+                }
   }
 
 
@@ -789,6 +840,7 @@ namespace dieflow
   {
     dealii::Timer run_timer;
     RunSummary    summary;
+    summary.velocity_degree = fe.degree;
     std::filesystem::create_directories(run_parameters.output_directory);
     const std::string summary_file = run_parameters.output_directory + "/summary.json";
 

@@ -21,6 +21,7 @@ namespace dieflow
    *  - symmetry and slip wall: v.n = 0, zero tangential traction (a fixed,
    *    frictionless rigid wall and a symmetry line are the same kinematics);
    *  - traction free: sigma n = 0 (natural, nothing to do);
+   *  - prescribed traction: sigma n = t, the load -int t.w ds in the residual;
    *  - die contact ids belong to the Contact subsection.
    * A node shared by a prescribed-velocity part and a wall keeps the
    * prescribed velocity on the prescribed components; hanging nodes keep
@@ -81,6 +82,9 @@ namespace dieflow
     std::set<BoundaryId>                                         symmetry_ids;
     std::set<BoundaryId>                                         slip_wall_ids;
     std::set<BoundaryId>                                         traction_free_ids;
+    /// Parts with the prescribed traction 'traction' (sigma n = t).
+    std::set<BoundaryId>                                         traction_ids;
+    std::unique_ptr<dealii::FunctionParser<dim>>                 traction;
     std::map<BoundaryId, std::unique_ptr<dealii::FunctionParser<dim>>> velocity;
     std::map<BoundaryId, dealii::ComponentMask>                  velocity_components;
     std::unique_ptr<dealii::FunctionParser<dim>>                 body_force;

@@ -10,6 +10,7 @@
 #include <dieflow/solvers/nonlinear_solver.h>
 #include <dieflow/parameters.h>
 #include <dieflow/mesh/refinement.h>
+#include <dieflow/postprocess/postprocess.h>
 #include <dieflow/postprocess/study.h>
 #include <dieflow/postprocess/summary.h>
 #include <dieflow/mesh/wall_nodes.h>
@@ -162,6 +163,13 @@ namespace dieflow
              const Linearization       linearization,
              dealii::SparseMatrix<double> *matrix,
              Vector<double> &          minus_residual);
+    /// Symmetry lines, slip walls and the dies without friction.
+    std::set<BoundaryId>
+    frictionless_walls() const;
+    /// The dies' shares of the nodes they share with prescribed-velocity
+    /// parts, into the die normal and friction forces of @p summary.
+    void
+    add_die_shares(const std::vector<WallShare<dim>> &shares, CycleSummary &summary) const;
     /// Volume per unit time that enters through the prescribed-velocity parts (<= 0).
     double
     boundary_conditions_inflow(const std::map<BoundaryId, double> &flux) const;

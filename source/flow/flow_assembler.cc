@@ -20,6 +20,9 @@ namespace dieflow
                   dealii::update_values | dealii::update_gradients |
                     dealii::update_JxW_values | dealii::update_quadrature_points)
         , centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values)
+        , face(fe,
+               dealii::QGauss<dim - 1>(fe.degree + 1),
+               dealii::update_values | dealii::update_JxW_values | dealii::update_quadrature_points)
         , projection(fe)
         , divergence_coefficients(projection.n_modes())
         , cell_stress(projection.n_modes())
@@ -36,6 +39,7 @@ namespace dieflow
 
       dealii::FEValues<dim>                             viscous;
       dealii::FEValues<dim>                             centre;
+      dealii::FEFaceValues<dim>                         face;
       PressureProjection<dim>                           projection;
       dealii::Vector<double>                            divergence_coefficients;
       dealii::Vector<double>                            cell_stress;
@@ -264,6 +268,20 @@ namespace dieflow
                     scratch.dual_projections[i] * scratch.strain_projections[j])) *
                 JxW;
         }
+
+      if (traction != nullptr && cell->at_boundary())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary() && traction_ids.count(cell->face(f)->boundary_id()))
+            {
+              scratch.face.reinit(cell, f);
+              for (const unsigned int q : scratch.face.quadrature_point_indices())
+                {
+                  traction->vector_value(scratch.face.quadrature_point(q), scratch.force);
+                  for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                    copy.residual[i] -= scratch.force[fe.system_to_component_index(i).first] *
+                                        scratch.face.shape_value(i, q) * scratch.face.JxW(q);
+                }
+            }
 
       const double lambda = (cell_penalty != nullptr) ? (*cell_penalty)[cell->active_cell_index()] : penalty;
       if (fe.degree == 1)

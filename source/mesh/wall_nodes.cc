@@ -67,8 +67,7 @@ namespace dieflow
     const auto         face             = cell->face(face_no);
     std::vector<GlobalDof> dofs(fe.n_dofs_per_cell());
     cell->get_dof_indices(dofs);
-    if (fe.degree > 1)
-      face_values.reinit(cell, face_no);
+    face_values.reinit(cell, face_no);
 
     std::vector<FaceNode<dim>> nodes;
     for (unsigned int j = 0; j < fe.n_dofs_per_cell(); ++j)
@@ -95,6 +94,9 @@ namespace dieflow
               node.position = face_values.get_mapping().transform_unit_to_real_cell(
                 cell, fe.get_unit_support_points()[j]);
             }
+          node.moment = Tensor<1, dim>();
+          for (const unsigned int q : face_values.quadrature_point_indices())
+            node.moment += face_values.shape_value(j, q) * face_values.JxW(q) * face_values.quadrature_point(q);
           nodes.push_back(node);
         }
     return nodes;
@@ -115,7 +117,8 @@ namespace dieflow
       hanging;
     dealii::FEFaceValues<dim> face_values(dof_handler.get_fe(),
                                           dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
-                                          dealii::update_values | dealii::update_JxW_values);
+                                          dealii::update_values | dealii::update_JxW_values |
+                                            dealii::update_quadrature_points);
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())

@@ -44,48 +44,231 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The parts of one boundary node: per part id, the integral of the
+    /// node's basis function over the part's faces and its first moment.
+    template <int dim>
+    struct NodeParts
+    {
+      std::array<GlobalDof, dim>           dofs;
+      std::map<BoundaryId, double>         weight;
+      std::map<BoundaryId, Tensor<1, dim>> moment;
+    };
+
+    /// Where a wall's traction is known from a node of its own: t = R / w
+    /// at the node's moment point.
+    template <int dim>
+    struct TractionSample
+    {
+      dealii::Point<dim> position;
+      Tensor<1, dim>     traction;
+    };
+
+    template <int dim>
+    bool
+    carries_prescribed_traction(const BoundaryConditions<dim> &boundary_conditions, const BoundaryId id)
+    {
+      return boundary_conditions.traction_free_ids.count(id) || boundary_conditions.traction_ids.count(id);
+    }
+
+    /// int t ds on each prescribed-traction part.
+    template <int dim>
+    void
+    add_prescribed_tractions(const DoFHandler<dim> &                    dof_handler,
+                             const BoundaryConditions<dim> &            boundary_conditions,
+                             std::map<BoundaryId, std::vector<double>> &force)
+    {
+      if (boundary_conditions.traction_ids.empty())
+        return;
+      dealii::FEFaceValues<dim> face_values(dof_handler.get_fe(),
+                                            dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 2),
+                                            dealii::update_JxW_values | dealii::update_quadrature_points);
+      Vector<double> t(dim);
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary() && boundary_conditions.traction_ids.count(cell->face(f)->boundary_id()))
+            {
+              face_values.reinit(cell, f);
+              for (const unsigned int q : face_values.quadrature_point_indices())
+                {
+                  boundary_conditions.traction->vector_value(face_values.quadrature_point(q), t);
+                  for (unsigned int d = 0; d < dim; ++d)
+                    force[cell->face(f)->boundary_id()][d] += t[d] * face_values.JxW(q);
+                }
+            }
+    }
+
+    /// The traction samples of every part: its nodes that belong to no
+    /// other part and, on a wall, have one wall direction (not a corner).
+    template <int dim>
+    std::map<BoundaryId, std::vector<TractionSample<dim>>>
+    traction_samples(const std::map<GlobalDof, NodeParts<dim>> &          nodes,
+                     const Vector<double> &                              reactions,
+                     const std::map<GlobalDof, const WallNode<dim> *> &  wall_node_of)
+    {
+      std::map<BoundaryId, std::vector<TractionSample<dim>>> samples;
+      for (const auto &[first_dof, node] : nodes)
+        {
+          if (node.weight.size() != 1 || node.weight.begin()->second <= 0)
+            continue;
+          const auto wall = wall_node_of.find(first_dof);
+          if (wall != wall_node_of.end() && wall->second->directions.size() != 1)
+            continue;
+          const auto &[id, w] = *node.weight.begin();
+          TractionSample<dim> sample;
+          sample.position = dealii::Point<dim>(node.moment.at(id) / w);
+          for (unsigned int d = 0; d < dim; ++d)
+            sample.traction[d] = reactions[node.dofs[d]] / w;
+          samples[id].push_back(sample);
+        }
+      return samples;
+    }
+
+    /**
+     * At a node shared by prescribed-velocity parts and walls, each wall
+     * takes the integral of its own traction against the node's basis
+     * function, w_W t_W(c_W): t_W extrapolated to the node's moment point
+     * c_W on that wall by the polynomial through the wall's @p n_samples
+     * nearest samples (degree + 1: the traction's own accuracy), and the
+     * prescribed parts share the rest of the reaction by weight. Without
+     * the split the prescribed part would also carry the wall's traction
+     * over the node's half element, an O(h) error in its force. False (and
+     * nothing added) when the node has no prescribed part or a wall has
+     * too few samples.
+     */
+    template <int dim>
+    bool
+    split_at_prescribed_part(const NodeParts<dim> &                                       node,
+                             const Tensor<1, dim> &                                       reaction,
+                             const std::map<BoundaryId, std::vector<TractionSample<dim>>> &samples,
+                             const std::set<BoundaryId> &                                 prescribed_ids,
+                             const std::set<BoundaryId> &                                 frictionless_ids,
+                             const WallNode<dim> *                                        wall_node,
+                             const unsigned int                                           n_samples,
+                             std::map<BoundaryId, std::vector<double>> &                  force,
+                             std::vector<WallShare<dim>> *                                wall_shares)
+    {
+      double prescribed_weight = 0;
+      for (const auto &[id, w] : node.weight)
+        if (prescribed_ids.count(id))
+          prescribed_weight += w;
+      if (prescribed_weight <= 0 || node.weight.size() < 2)
+        return false;
+
+      std::map<BoundaryId, Tensor<1, dim>> wall_force;
+      for (const auto &[id, w] : node.weight)
+        {
+          if (prescribed_ids.count(id))
+            continue;
+          const auto found = samples.find(id);
+          if (found == samples.end() || found->second.size() < 2)
+            return false;
+          const dealii::Point<dim> centre(node.moment.at(id) / w);
+          // The nearest samples, by distance from the node's moment point.
+          std::vector<std::pair<double, const TractionSample<dim> *>> nearest;
+          for (const auto &sample : found->second)
+            nearest.emplace_back(centre.distance(sample.position), &sample);
+          const unsigned int n = std::min<unsigned int>(n_samples, nearest.size());
+          std::partial_sort(nearest.begin(), nearest.begin() + n, nearest.end(),
+                            [](const auto &a, const auto &b) { return a.first < b.first; });
+          // Lagrange extrapolation to distance 0.
+          Tensor<1, dim> t;
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              double L = 1;
+              for (unsigned int k = 0; k < n; ++k)
+                if (k != j)
+                  L *= nearest[k].first / (nearest[k].first - nearest[j].first);
+              t += L * nearest[j].second->traction;
+            }
+          // A frictionless wall (symmetry, slip wall, die without friction)
+          // carries a normal traction only.
+          if (frictionless_ids.count(id) && wall_node != nullptr)
+            for (const auto &direction : wall_node->directions)
+              if (direction.id == id)
+                {
+                  t = (t * direction.normal) * direction.normal;
+                  break;
+                }
+          wall_force[id] = w * t;
+        }
+
+      Tensor<1, dim> rest = reaction;
+      for (const auto &[id, f] : wall_force)
+        {
+          for (unsigned int d = 0; d < dim; ++d)
+            force[id][d] += f[d];
+          rest -= f;
+          if (wall_shares != nullptr)
+            wall_shares->push_back({id, node.dofs[0], f});
+        }
+      for (const auto &[id, w] : node.weight)
+        if (prescribed_ids.count(id))
+          for (unsigned int d = 0; d < dim; ++d)
+            force[id][d] += w / prescribed_weight * rest[d];
+      return true;
+    }
+  } // namespace
+
+
+
   template <int dim>
   std::map<BoundaryId, std::vector<double>>
   boundary_forces(const DoFHandler<dim> &           dof_handler,
                   const Vector<double> &            reactions,
                   const BoundaryConditions<dim> &   boundary_conditions,
-                  const std::vector<WallNode<dim>> &wall_nodes)
+                  const std::vector<WallNode<dim>> &wall_nodes,
+                  const std::set<BoundaryId> &      frictionless_ids,
+                  std::vector<WallShare<dim>> *     wall_shares)
   {
     std::map<BoundaryId, std::vector<double>> force;
     for (const auto id : dof_handler.get_triangulation().get_boundary_ids())
       force[id] = std::vector<double>(dim, 0.);
 
-    // The parts that can carry a force at each boundary node, with their
-    // lumped weights.
-    struct NodeParts
-    {
-      std::array<GlobalDof, dim>          dofs;
-      std::map<BoundaryId, double>        weight;
-    };
-    std::map<GlobalDof, NodeParts> nodes;
-    dealii::FEFaceValues<dim>      face_values(dof_handler.get_fe(),
+    // The parts that can carry a force at each boundary node, with the
+    // integral of the node's basis function over each part's faces (weight)
+    // and its first moment. Traction-free and prescribed-traction parts
+    // carry what is prescribed (their nodes' reactions vanish), added below.
+    std::map<GlobalDof, NodeParts<dim>> nodes;
+    dealii::FEFaceValues<dim>           face_values(dof_handler.get_fe(),
                                           dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
-                                          dealii::update_values | dealii::update_JxW_values);
+                                          dealii::update_values | dealii::update_JxW_values |
+                                            dealii::update_quadrature_points);
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
-        if (cell->face(f)->at_boundary() &&
-            boundary_conditions.traction_free_ids.count(cell->face(f)->boundary_id()) == 0)
+        if (cell->face(f)->at_boundary() && !carries_prescribed_traction(boundary_conditions, cell->face(f)->boundary_id()))
           for (const auto &face_node : face_nodes<dim>(cell, f, face_values))
             {
               auto &node = nodes[face_node.dofs[0]];
               node.dofs  = face_node.dofs;
-              node.weight[cell->face(f)->boundary_id()] += cell->face(f)->measure();
+              node.weight[cell->face(f)->boundary_id()] += face_node.weight;
+              node.moment[cell->face(f)->boundary_id()] += face_node.moment;
             }
+    add_prescribed_tractions(dof_handler, boundary_conditions, force);
 
     std::map<GlobalDof, const WallNode<dim> *> wall_node_of;
     for (const auto &node : wall_nodes)
       wall_node_of[node.dofs[0]] = &node;
+    const auto samples = traction_samples(nodes, reactions, wall_node_of);
 
     for (const auto &[first_dof, node] : nodes)
       {
         Tensor<1, dim> reaction;
         for (unsigned int d = 0; d < dim; ++d)
           reaction[d] = reactions[node.dofs[d]];
+
+        const auto wall_node = wall_node_of.find(first_dof);
+        if (split_at_prescribed_part(node,
+                                     reaction,
+                                     samples,
+                                     boundary_conditions.velocity_ids,
+                                     frictionless_ids,
+                                     wall_node == wall_node_of.end() ? nullptr : wall_node->second,
+                                     dof_handler.get_fe().degree + 1,
+                                     force,
+                                     wall_shares))
+          continue;
 
         // Prescribed-velocity parts take the whole reaction, shared by weight.
         double prescribed_weight = 0;
@@ -393,7 +576,8 @@ namespace dieflow
   template std::map<BoundaryId, double>
   boundary_fluxes<2>(const DoFHandler<2> &, const Vector<double> &);
   template std::map<BoundaryId, std::vector<double>>
-  boundary_forces<2>(const DoFHandler<2> &, const Vector<double> &, const BoundaryConditions<2> &, const std::vector<WallNode<2>> &);
+  boundary_forces<2>(const DoFHandler<2> &, const Vector<double> &, const BoundaryConditions<2> &, const std::vector<WallNode<2>> &,
+                     const std::set<BoundaryId> &, std::vector<WallShare<2>> *);
   template double
   divergence_ratio<2>(const DoFHandler<2> &, const Vector<double> &);
   template std::pair<double, double>

@@ -83,7 +83,8 @@ namespace dieflow
              << (value != 0 ? 100 * e->second.estimate / std::abs(value) : 0.) << " %)";
       return text.str();
     };
-    out << "result (cycle " << last.cycle << ", " << last.dofs << " dofs):\n";
+    out << "result (cycle " << last.cycle << ", " << last.dofs << " dofs, velocity degree " << summary.velocity_degree
+        << "):\n";
     for (const auto &[name, value] : last.quantities)
       if (name.rfind("F_x[", 0) == 0)
         out << "  force on prescribed-velocity part " << name.substr(4, name.size() - 5) << ", " << name << " = "
@@ -117,7 +118,8 @@ namespace dieflow
     std::ofstream out(file_name);
     out << "{\n"
         << "  \"converged\": " << (summary.converged ? "true" : "false") << ",\n"
-        << "  \"wall_time\": " << number(summary.wall_time) << ",\n";
+        << "  \"wall_time\": " << number(summary.wall_time) << ",\n"
+        << "  \"velocity_degree\": " << summary.velocity_degree << ",\n";
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
         << "  \"stage_wall_time\": {";
     for (auto it = summary.stage_wall_time.begin(); it != summary.stage_wall_time.end(); ++it)

@@ -11,6 +11,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <set>
 #include <unordered_map>
 
 namespace dieflow
@@ -41,7 +42,7 @@ namespace dieflow
    * The cell terms of the penalised velocity problem (7)-(9) of the paper:
    *   R(v; w) = int 2 eta(epsdot(v)) D(v):D(w) dx        (Gauss, degree + 1 points)
    *           + int lambda (P div v)(P div w) dx
-   *           - int f.w dx,
+   *           - int f.w dx - int_Gamma_t t.w ds,
    * i.e. sigma = 2 eta D + lambda (P div v) I, p = -lambda P div v, with P
    * the projection of PressureProjection: for velocity degree 1 div v at
    * the cell centre (selective reduced integration, the paper's Q1-P0
@@ -100,10 +101,21 @@ namespace dieflow
     {
       body_force = f;
     }
-    const dealii::Function<dim> *
-    body_force_function() const
+    /// The prescribed traction t on the faces with the given ids: the
+    /// load -int t.w ds joins the residual (a dead load: no Jacobian term).
+    void
+    set_traction(const dealii::Function<dim> *t, const std::set<dealii::types::boundary_id> &ids)
     {
-      return body_force;
+      traction     = t;
+      traction_ids = ids;
+    }
+    /// Copies the loads (body force, traction) of @p other.
+    void
+    copy_loads(const FlowAssembler &other)
+    {
+      body_force   = other.body_force;
+      traction     = other.traction;
+      traction_ids = other.traction_ids;
     }
 
     void
@@ -185,6 +197,8 @@ namespace dieflow
     Tangent                      tangent = Tangent::primal_dual;
     std::vector<dealii::SymmetricTensor<2, dim>> dual;
     const dealii::Function<dim> *body_force;
+    const dealii::Function<dim> *traction = nullptr;
+    std::set<dealii::types::boundary_id> traction_ids;
     double                       penalty    = 0;
     const Vector<double> *       multiplier = nullptr;
     const Vector<double> *       cell_penalty = nullptr;

@@ -49,12 +49,16 @@ namespace dieflow
     std::array<GlobalDof, dim> dofs;
     dealii::Point<dim>         position;
     double                     weight;
+    /// int x phi ds over the face: moment / weight is where a nodal
+    /// reaction over the weight samples the traction.
+    Tensor<1, dim>             moment;
     unsigned int               vertex;
   };
 
   /**
-   * The nodes of face @p face_no of @p cell, with weights from
-   * @p face_values (the cell's FE with QGauss(degree + 1), reinit'ed here).
+   * The nodes of face @p face_no of @p cell, with weights and moments from
+   * @p face_values (the cell's FE with QGauss(degree + 1), values, JxW and
+   * quadrature points; reinit'ed here).
    */
   template <int dim>
   std::vector<FaceNode<dim>>

@@ -23,6 +23,16 @@ namespace dieflow
   std::map<BoundaryId, double>
   boundary_fluxes(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
 
+  /// A wall's share w_W t_W of the reaction at a node it shares with a
+  /// prescribed-velocity part (see boundary_forces()).
+  template <int dim>
+  struct WallShare
+  {
+    BoundaryId     id;
+    GlobalDof      first_dof;
+    Tensor<1, dim> force;
+  };
+
   /**
    * Integral of the traction sigma n over each boundary part, from the
    * reaction forces: the unconstrained residual R_i = int sigma(v):grad phi_i
@@ -30,16 +40,27 @@ namespace dieflow
    * it over a part's nodes gives the part's force exactly for the discrete
    * solution (and more accurately than integrating the Q1 stress, which is
    * one order lower). The parts' forces sum to minus the body force, a
-   * conservation check. A node shared by several parts: traction-free parts
-   * carry nothing; a prescribed-velocity part takes the whole reaction; between
-   * walls the reaction is split along the walls' normals.
+   * conservation check. A node shared by several parts: traction-free and
+   * prescribed-traction parts carry what is prescribed (int t ds); where a
+   * prescribed-velocity part meets walls, each wall takes w_W t_W, its own
+   * traction extrapolated along the wall from its nearest degree + 1 nodes
+   * (t = R/w at each node's moment point) times the node's weight on the
+   * wall, and the prescribed part the rest, so each part's force converges
+   * at the rate of the discretisation (taking the whole reaction made an
+   * O(h) error); between walls the reaction is split along the walls'
+   * normals. The share of a wall in @p frictionless_ids (symmetry lines,
+   * slip walls, dies without friction) is normal to it. The walls' shares
+   * at the split nodes go to @p wall_shares (if given): a die's normal and
+   * friction forces include them.
    */
   template <int dim>
   std::map<BoundaryId, std::vector<double>>
-  boundary_forces(const DoFHandler<dim> &          dof_handler,
-                  const Vector<double> &           reactions,
-                  const BoundaryConditions<dim> &  boundary_conditions,
-                  const std::vector<WallNode<dim>> &wall_nodes);
+  boundary_forces(const DoFHandler<dim> &           dof_handler,
+                  const Vector<double> &            reactions,
+                  const BoundaryConditions<dim> &   boundary_conditions,
+                  const std::vector<WallNode<dim>> &wall_nodes,
+                  const std::set<BoundaryId> &      frictionless_ids = {},
+                  std::vector<WallShare<dim>> *     wall_shares      = nullptr);
 
   /**
    * ||P div v|| / ||grad v|| in L2, P the projection of the penalty term

@@ -125,6 +125,8 @@ namespace dieflow
     double                    wall_time = 0;
     std::string               failure;
     std::vector<CycleSummary> cycles;
+    /// Discretisation/Velocity degree (1: Q1-P0, 2: Q2-P1disc).
+    unsigned int              velocity_degree = 1;
     /// Wall time (s) per stage: setup, assembly, linear solve, postprocess, refinement.
     std::map<std::string, double> stage_wall_time;
     /// Peak resident memory of the process (MB).
