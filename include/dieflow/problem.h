@@ -82,6 +82,8 @@ namespace dieflow
     double
     residual_floor() const override;
     double
+    round_off_floor() const override;
+    double
     velocity_scale() const override
     {
       return prescribed_speed;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <dieflow/solvers/linear_solver.h>
 #include <dieflow/solvers/nonlinear_solver.h>
 
@@ -205,7 +206,8 @@ namespace dieflow
         // A linear problem (Newtonian, no contact) is solved by its first
         // Newton step up to round-off.
         const bool linear_done = (k > 0 && system.is_linear());
-        const double tolerance = std::max(residual_tolerance, system.residual_floor());
+        const double tolerance =
+          std::max({residual_tolerance, system.residual_floor(), k > 0 ? system.round_off_floor() : 0.});
         if (changes.total() == 0 && system.constraints_settled() &&
             (residual <= tolerance || (k > 0 && last_update <= update_tolerance) || linear_done))
           {
