@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
-#include <limits>
 
 namespace dieflow
 {
@@ -505,27 +504,6 @@ namespace dieflow
     // 1e-16 x factor per nodal force; measured on die2d from 666 to 150,000
     // dofs: 1.5e-17 to 3e-17 x factor x sqrt(dofs). Twice that is the floor.
     return 6e-17 * penalty_factor() * std::sqrt(static_cast<double>(dof_handler.n_dofs()));
-  }
-
-
-
-  template <int dim>
-  double
-  DieFlowProblem<dim>::round_off_floor() const
-  {
-    // eps times the sum of the magnitudes of the terms that make up the
-    // residual entries bounds their round-off; the relative residual's
-    // plateau measured about 7 times below that bound (die2d N1 and P1,
-    // velocity degree 1 and 2, 2,500 to 22,000 dofs), so a third of it is
-    // about twice the plateau, as residual_floor() is for degree 1 N1.
-    const Vector<double> &magnitudes = assembler.residual_magnitudes();
-    double                terms = 0, reactions = 0;
-    for (unsigned int i = 0; i < magnitudes.size() && i < raw_residual.size(); ++i)
-      if (update_constraints.is_constrained(i))
-        reactions += raw_residual[i] * raw_residual[i];
-      else
-        terms += magnitudes[i] * magnitudes[i];
-    return reactions > 0 ? std::numeric_limits<double>::epsilon() * std::sqrt(terms / reactions) / 3 : 0.;
   }
 
 

@@ -82,8 +82,6 @@ namespace dieflow
     double
     residual_floor() const override;
     double
-    round_off_floor() const override;
-    double
     velocity_scale() const override
     {
       return prescribed_speed;

@@ -102,8 +102,6 @@ namespace dieflow
     {
       dealii::FullMatrix<double>                   matrix;
       dealii::Vector<double>                       residual;
-      /// Sum of the magnitudes of the terms that make up each residual entry.
-      dealii::Vector<double>                       magnitude;
       std::vector<dealii::types::global_dof_index> dofs;
     };
 
@@ -121,21 +119,15 @@ namespace dieflow
       const unsigned int                       dofs_per_cell = copy.dofs.size();
       scratch.centre.reinit(cell);
       const double JxW        = scratch.centre.JxW(0);
-      double       divergence = 0, divergence_terms = 0;
+      double       divergence = 0;
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
-        {
-          divergence += scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0);
-          divergence_terms += std::abs(scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0));
-        }
+        divergence += scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0);
       const unsigned int c           = cell->active_cell_index();
       const double       cell_stress = lambda * divergence + (multiplier != nullptr ? (*multiplier)[c] : 0.);
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
         {
           const double div_i = scratch.centre[velocities].divergence(i, 0);
           copy.residual[i] += cell_stress * div_i * JxW;
-          // The round-off of div v (a sum of terms far larger than itself),
-          // amplified by lambda.
-          copy.magnitude[i] += std::abs(lambda * divergence_terms * div_i * JxW);
           if (with_matrix)
             for (unsigned int j = 0; j <= i; ++j)
               copy.matrix(i, j) += lambda * div_i * scratch.centre[velocities].divergence(j, 0) * JxW;
@@ -167,27 +159,9 @@ namespace dieflow
           lambda * scratch.divergence_coefficients[m] + (multiplier != nullptr ? (*multiplier)[first + m] : 0.);
       const auto &B    = projection.divergence_matrix();
       const auto &Minv = projection.inverse_mass();
-      // The round-off of P div v (sums of terms far larger than the result),
-      // amplified by lambda.
-      double terms[dim + 1], coefficient_terms[dim + 1];
-      for (unsigned int m = 0; m < n_modes; ++m)
-        {
-          terms[m] = 0;
-          for (unsigned int j = 0; j < dofs_per_cell; ++j)
-            terms[m] += std::abs(B(m, j) * scratch.local_velocity[j]);
-        }
-      for (unsigned int m = 0; m < n_modes; ++m)
-        {
-          coefficient_terms[m] = 0;
-          for (unsigned int n = 0; n < n_modes; ++n)
-            coefficient_terms[m] += std::abs(Minv(m, n)) * terms[n];
-        }
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
         for (unsigned int m = 0; m < n_modes; ++m)
-          {
-            copy.residual[i] += B(m, i) * scratch.cell_stress[m];
-            copy.magnitude[i] += std::abs(B(m, i)) * lambda * coefficient_terms[m];
-          }
+          copy.residual[i] += B(m, i) * scratch.cell_stress[m];
       if (!with_matrix)
         return;
       // (M^-1 B) once, then B^T (M^-1 B).
@@ -236,7 +210,6 @@ namespace dieflow
       *matrix = 0;
     rhs.reinit(dof_handler.n_dofs());
     raw_residual.reinit(dof_handler.n_dofs());
-    magnitudes.reinit(dof_handler.n_dofs());
 
     const auto worker = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
                             ScratchData<dim> &                                    scratch,
@@ -244,7 +217,6 @@ namespace dieflow
       copy.dofs.resize(dofs_per_cell);
       cell->get_dof_indices(copy.dofs);
       copy.residual.reinit(dofs_per_cell);
-      copy.magnitude.reinit(dofs_per_cell);
       if (matrix != nullptr)
         copy.matrix.reinit(dofs_per_cell, dofs_per_cell);
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
@@ -273,7 +245,6 @@ namespace dieflow
                 r -= scratch.force[fe.system_to_component_index(i).first] *
                      viscous.shape_value(i, q);
               copy.residual[i] += r * JxW;
-              copy.magnitude[i] += std::abs(r * JxW);
             }
           if (matrix == nullptr)
             continue;
@@ -326,10 +297,7 @@ namespace dieflow
 
     const auto copier = [&](const CopyData &copy) {
       for (unsigned int i = 0; i < copy.dofs.size(); ++i)
-        {
-          raw_residual[copy.dofs[i]] += copy.residual[i];
-          magnitudes[copy.dofs[i]] += copy.magnitude[i];
-        }
+        raw_residual[copy.dofs[i]] += copy.residual[i];
       Vector<double>                    minus_residual(copy.residual);
       dealii::FullMatrix<double>        transformed;
       const dealii::FullMatrix<double> *local_matrix = &copy.matrix;

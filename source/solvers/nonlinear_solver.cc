@@ -1,4 +1,3 @@
-#include <algorithm>
 #include <dieflow/solvers/linear_solver.h>
 #include <dieflow/solvers/nonlinear_solver.h>
 
@@ -206,8 +205,7 @@ namespace dieflow
         // A linear problem (Newtonian, no contact) is solved by its first
         // Newton step up to round-off.
         const bool linear_done = (k > 0 && system.is_linear());
-        const double tolerance =
-          std::max({residual_tolerance, system.residual_floor(), k > 0 ? system.round_off_floor() : 0.});
+        const double tolerance = std::max(residual_tolerance, system.residual_floor());
         if (changes.total() == 0 && system.constraints_settled() &&
             (residual <= tolerance || (k > 0 && last_update <= update_tolerance) || linear_done))
           {

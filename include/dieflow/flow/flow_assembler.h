@@ -175,18 +175,6 @@ namespace dieflow
                       Vector<double> &                 raw_residual,
                       const RowTransforms *            transforms = nullptr) const;
 
-    /**
-     * Per dof, a bound on the sum of the magnitudes of what the last
-     * assembly added into the residual entry, the penalty's round-off
-     * included (lambda times the terms of P div v, which cancel): eps times
-     * it bounds the round-off of the entry.
-     */
-    const Vector<double> &
-    residual_magnitudes() const
-    {
-      return magnitudes;
-    }
-
     /// Volume average of eta(epsdot(v)) (2x2 Gauss points).
     double
     mean_viscosity(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity) const;
@@ -214,8 +202,6 @@ namespace dieflow
     double                       penalty    = 0;
     const Vector<double> *       multiplier = nullptr;
     const Vector<double> *       cell_penalty = nullptr;
-    /// Filled by the last assembly (see residual_magnitudes()).
-    mutable Vector<double>       magnitudes;
   };
 } // namespace dieflow
 

@@ -60,15 +60,6 @@ namespace dieflow
       return 0;
     }
 
-    /// The same from the last assembly's own terms: what round-off leaves
-    /// at the current iterate. Only trusted after a Newton step (far from
-    /// a solution the terms, and with them the bound, are large).
-    virtual double
-    round_off_floor() const
-    {
-      return 0;
-    }
-
     /// Whether the last assembled Jacobian is symmetric (the problem then
     /// minimises a potential).
     virtual bool
