@@ -594,8 +594,9 @@ namespace dieflow
     Vector<double> reactions = raw_residual;
     hanging_node_constraints.condense(reactions);
     std::vector<WallShare<dim>> wall_shares;
+    const auto                  frictionless = frictionless_walls();
     summary.boundary_force =
-      boundary_forces(dof_handler, reactions, boundary_conditions, wall_nodes, frictionless_walls(), &wall_shares);
+      boundary_forces(dof_handler, reactions, boundary_conditions, wall_nodes, frictionless, &wall_shares);
     summary.divergence_ratio = divergence_ratio(dof_handler, velocity);
     summary.penalty          = assembler.get_penalty();
     summary.mean_viscosity   = mean_viscosity;
@@ -616,7 +617,7 @@ namespace dieflow
         contact_results    = contact.results(velocity);
         const auto &results = contact_results;
         contact.summarise(results, velocity.linfty_norm(), summary);
-        add_die_shares(wall_shares, summary);
+        add_die_shares(wall_shares, frictionless, summary);
         contact.write_profiles(results, run_parameters.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
         const double inflow            = -boundary_conditions_inflow(summary.flux);
@@ -677,14 +678,8 @@ namespace dieflow
   {
     std::set<BoundaryId> ids = boundary_conditions.wall_ids();
     for (const BoundaryId id : contact_parameters.die_ids)
-      {
-        const auto   m      = contact_parameters.tresca_factor.find(id);
-        const double bound  = contact_parameters.law == FrictionLaw::Kind::tresca ?
-                                (m == contact_parameters.tresca_factor.end() ? 0. : m->second) :
-                                contact.friction_coefficient(id);
-        if (bound == 0)
-          ids.insert(id);
-      }
+      if (contact.frictionless(id))
+        ids.insert(id);
     return ids;
   }
 
@@ -692,25 +687,21 @@ namespace dieflow
 
   template <int dim>
   void
-  DieFlowProblem<dim>::add_die_shares(const std::vector<WallShare<dim>> &shares, CycleSummary &summary) const
+  DieFlowProblem<dim>::add_die_shares(const std::vector<WallShare<dim>> &shares,
+                                      const std::set<BoundaryId> &       frictionless,
+                                      CycleSummary &                     summary) const
   {
     // The node belongs to the prescribed part, not to the contact set, but
     // the die carries its share of it: |f.n| and |f - (f.n) n|, as the
     // contact nodes' forces are counted.
-    const auto frictionless = frictionless_walls();
     for (const auto &share : shares)
-      if (contact_parameters.die_ids.count(share.id))
-        for (const auto &node : wall_nodes)
-          if (node.dofs[0] == share.first_dof)
-            for (const auto &direction : node.directions)
-              if (direction.id == share.id)
-                {
-                  const double normal = share.force * direction.normal;
-                  summary.die_normal_force[share.id] += std::abs(normal);
-                  if (!frictionless.count(share.id))
-                    summary.die_friction_force[share.id] += (share.force - normal * direction.normal).norm();
-                  break;
-                }
+      if (contact_parameters.die_ids.count(share.id) && share.normal.norm_square() > 0)
+        {
+          const double normal = share.force * share.normal;
+          summary.die_normal_force[share.id] += std::abs(normal);
+          if (!frictionless.count(share.id))
+            summary.die_friction_force[share.id] += (share.force - normal * share.normal).norm();
+        }
   }
 
 
@@ -797,13 +788,9 @@ namespace dieflow
     summary.target_quantity  = refinement.target_quantity;
     summary.target_error     = refinement.target_error;
     summary.target_reached   = false;
-    double value = 0, estimate = std::numeric_limits<double>::infinity();
-    for (const auto &[name, v] : last.quantities)
-      if (name == refinement.target_quantity)
-        value = v;
-    for (const auto &[name, e] : last.estimated_errors)
-      if (name == refinement.target_quantity)
-        estimate = e;
+    const double value = named_value(last.quantities, refinement.target_quantity);
+    const double estimate =
+      named_value(last.estimated_errors, refinement.target_quantity, std::numeric_limits<double>::infinity());
     // The estimate needs three cycles (Extrapolation::estimate).
     if (last.cycle >= 2 && estimate <= refinement.target_error * std::abs(value))
       {
@@ -927,9 +914,7 @@ namespace dieflow
         q.extrapolation_error = e.error;
         q.order               = e.order;
         q.estimate            = e.estimate;
-        for (const auto &[n, v] : summary.cycles.back().quantities)
-          if (n == name)
-            q.last = v;
+        q.last                = named_value(summary.cycles.back().quantities, name);
         summary.extrapolated.push_back(q);
       }
     {

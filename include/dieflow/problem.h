@@ -169,7 +169,9 @@ namespace dieflow
     /// The dies' shares of the nodes they share with prescribed-velocity
     /// parts, into the die normal and friction forces of @p summary.
     void
-    add_die_shares(const std::vector<WallShare<dim>> &shares, CycleSummary &summary) const;
+    add_die_shares(const std::vector<WallShare<dim>> &shares,
+                   const std::set<BoundaryId> &       frictionless,
+                   CycleSummary &                     summary) const;
     /// Volume per unit time that enters through the prescribed-velocity parts (<= 0).
     double
     boundary_conditions_inflow(const std::map<BoundaryId, double> &flux) const;

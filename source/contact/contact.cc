@@ -206,14 +206,33 @@ namespace dieflow
 
   template <int dim>
   FrictionLaw
-  ContactSet<dim>::law_of(const Direction &direction) const
+  ContactSet<dim>::law_of(const BoundaryId id, const double weight) const
   {
     FrictionLaw law;
+    law.kind         = parameters.law;
+    law.mu           = friction_coefficient(id);
+    const auto m     = parameters.tresca_factor.find(id);
+    law.shear_bound  = (m == parameters.tresca_factor.end() ? 0. : m->second) * parameters.shear_flow_stress * weight;
+    return law;
+  }
+
+
+
+  template <int dim>
+  bool
+  ContactSet<dim>::frictionless(const BoundaryId id) const
+  {
+    return law_of(id, 1.).frictionless();
+  }
+
+
+
+  template <int dim>
+  FrictionLaw
+  ContactSet<dim>::law_of(const Direction &direction) const
+  {
+    FrictionLaw law             = law_of(direction.wall.id, direction.wall.weight);
     law.kind                    = direction.regularised ? FrictionLaw::Kind::regularised_coulomb : parameters.law;
-    law.mu                      = friction_coefficient(direction.wall.id);
-    const auto m                = parameters.tresca_factor.find(direction.wall.id);
-    law.shear_bound             = (m == parameters.tresca_factor.end() ? 0. : m->second) *
-                      parameters.shear_flow_stress * direction.wall.weight;
     law.tangential_penalty      = penalty_of(parameters.tangential_penalty_factor, direction.wall.weight);
     law.regularisation_velocity = direction.regularised ? cycling_velocity : parameters.regularisation_velocity;
     return law;

@@ -27,6 +27,8 @@ namespace dieflow
     , B(modes, fe.n_dofs_per_cell())
     , M_inverse(modes, modes)
     , M(modes, modes)
+    , cell_dofs(fe.n_dofs_per_cell())
+    , cell_velocity(fe.n_dofs_per_cell())
   {}
 
 
@@ -87,6 +89,21 @@ namespace dieflow
 
 
   template <int dim>
+  void
+  PressureProjection<dim>::project(const typename dealii::DoFHandler<dim>::active_cell_iterator &cell,
+                                   const dealii::Vector<double> &                                velocity,
+                                   dealii::Vector<double> &                                      coefficients)
+  {
+    reinit(cell);
+    cell->get_dof_indices(cell_dofs);
+    for (unsigned int i = 0; i < cell_dofs.size(); ++i)
+      cell_velocity[i] = velocity[cell_dofs[i]];
+    project(cell_velocity, coefficients);
+  }
+
+
+
+  template <int dim>
   double
   PressureProjection<dim>::value(const double *coefficients, const dealii::Point<dim> &x) const
   {
@@ -118,16 +135,10 @@ namespace dieflow
     PressureProjection<dim> projection(dof_handler.get_fe());
     const unsigned int      n_modes = projection.n_modes();
     dealii::Vector<double>  result(dof_handler.get_triangulation().n_active_cells() * n_modes);
-    std::vector<dealii::types::global_dof_index> dofs(dof_handler.get_fe().n_dofs_per_cell());
-    std::vector<double>                          local(dofs.size());
-    dealii::Vector<double>                       coefficients(n_modes);
+    dealii::Vector<double>  coefficients(n_modes);
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
-        projection.reinit(cell);
-        cell->get_dof_indices(dofs);
-        for (unsigned int i = 0; i < dofs.size(); ++i)
-          local[i] = velocity[dofs[i]];
-        projection.project(local, coefficients);
+        projection.project(cell, velocity, coefficients);
         for (unsigned int m = 0; m < n_modes; ++m)
           result[cell->active_cell_index() * n_modes + m] = coefficients[m];
       }

@@ -1,4 +1,5 @@
 #include <dieflow/mesh/singular_points.h>
+#include <dieflow/mesh/wall_nodes.h>
 
 #include <cmath>
 #include <map>
@@ -7,26 +8,6 @@ namespace dieflow
 {
   namespace
   {
-    /// Outward unit normal of a straight boundary face of @p cell.
-    template <int dim, typename CellIterator>
-    dealii::Tensor<1, dim>
-    outward_normal(const CellIterator &cell, const unsigned int f)
-    {
-      const auto             face = cell->face(f);
-      dealii::Tensor<1, dim> n;
-      if constexpr (dim == 2)
-        {
-          const auto t = face->vertex(1) - face->vertex(0);
-          n[0]         = t[1];
-          n[1]         = -t[0];
-        }
-      else
-        n = dealii::cross_product_3d(face->vertex(3) - face->vertex(0), face->vertex(2) - face->vertex(1));
-      if ((face->center() - cell->center()) * n < 0)
-        n *= -1;
-      return n / n.norm();
-    }
-
     /// One layer of grade_towards(): refine flags on the cells near @p points.
     template <int dim>
     void
@@ -63,7 +44,7 @@ namespace dieflow
       for (const unsigned int f : cell->face_indices())
         if (cell->face(f)->at_boundary())
           {
-            const Side side{cell->face(f)->boundary_id(), outward_normal<dim>(cell, f)};
+            const Side side{cell->face(f)->boundary_id(), outward_unit_normal<dim>(cell, f)};
             for (const unsigned int v : cell->face(f)->vertex_indices())
               sides[cell->face(f)->vertex_index(v)].push_back(side);
           }

@@ -11,27 +11,6 @@ namespace dieflow
 {
   namespace
   {
-    /// Outward unit normal of a straight (planar) boundary face.
-    template <int dim, typename CellIterator>
-    Tensor<1, dim>
-    outward_normal(const CellIterator &cell, const unsigned int face_no)
-    {
-      const auto     face = cell->face(face_no);
-      Tensor<1, dim> n;
-      if constexpr (dim == 2)
-        {
-          const Tensor<1, dim> t = face->vertex(1) - face->vertex(0);
-          n[0]                   = t[1];
-          n[1]                   = -t[0];
-        }
-      else
-        n = dealii::cross_product_3d(face->vertex(3) - face->vertex(0),
-                                     face->vertex(2) - face->vertex(1));
-      if (n * (face->center() - cell->center()) < 0)
-        n *= -1;
-      return n / n.norm();
-    }
-
     template <int dim>
     void
     add_to_directions(std::vector<WallDirection<dim>> &          directions,
@@ -125,7 +104,7 @@ namespace dieflow
         if (cell->face(f)->at_boundary() && ids.count(cell->face(f)->boundary_id()))
           {
             const auto           face   = cell->face(f);
-            const Tensor<1, dim> normal = outward_normal<dim>(cell, f);
+            const Tensor<1, dim> normal = outward_unit_normal<dim>(cell, f);
             // For the contact element: a segment in 2D, three vertices of
             // the facet's plane in 3D.
             std::array<dealii::Point<dim>, dim> facet;

@@ -156,7 +156,7 @@ namespace dieflow
       if (prescribed_weight <= 0 || node.weight.size() < 2)
         return false;
 
-      std::map<BoundaryId, Tensor<1, dim>> wall_force;
+      std::vector<WallShare<dim>> shares;
       for (const auto &[id, w] : node.weight)
         {
           if (prescribed_ids.count(id))
@@ -182,26 +182,29 @@ namespace dieflow
                   L *= nearest[k].first / (nearest[k].first - nearest[j].first);
               t += L * nearest[j].second->traction;
             }
-          // A frictionless wall (symmetry, slip wall, die without friction)
-          // carries a normal traction only.
-          if (frictionless_ids.count(id) && wall_node != nullptr)
+          // The wall's normal at the node; a frictionless wall (symmetry,
+          // slip wall, die without friction) carries a normal traction only.
+          Tensor<1, dim> normal;
+          if (wall_node != nullptr)
             for (const auto &direction : wall_node->directions)
               if (direction.id == id)
                 {
-                  t = (t * direction.normal) * direction.normal;
+                  normal = direction.normal;
                   break;
                 }
-          wall_force[id] = w * t;
+          if (frictionless_ids.count(id) && normal.norm_square() > 0)
+            t = (t * normal) * normal;
+          shares.push_back({id, normal, w * t});
         }
 
       Tensor<1, dim> rest = reaction;
-      for (const auto &[id, f] : wall_force)
+      for (const auto &share : shares)
         {
           for (unsigned int d = 0; d < dim; ++d)
-            force[id][d] += f[d];
-          rest -= f;
+            force[share.id][d] += share.force[d];
+          rest -= share.force;
           if (wall_shares != nullptr)
-            wall_shares->push_back({id, node.dofs[0], f});
+            wall_shares->push_back(share);
         }
       for (const auto &[id, w] : node.weight)
         if (prescribed_ids.count(id))
@@ -258,13 +261,13 @@ namespace dieflow
         for (unsigned int d = 0; d < dim; ++d)
           reaction[d] = reactions[node.dofs[d]];
 
-        const auto wall_node = wall_node_of.find(first_dof);
+        const auto wall = wall_node_of.find(first_dof);
         if (split_at_prescribed_part(node,
                                      reaction,
                                      samples,
                                      boundary_conditions.velocity_ids,
                                      frictionless_ids,
-                                     wall_node == wall_node_of.end() ? nullptr : wall_node->second,
+                                     wall == wall_node_of.end() ? nullptr : wall->second,
                                      dof_handler.get_fe().degree + 1,
                                      force,
                                      wall_shares))
@@ -288,7 +291,6 @@ namespace dieflow
         // Between walls: the reaction along each wall's normal belongs to that
         // wall (a 2D corner: solve R = a_1 n_1 + a_2 n_2); what remains (the
         // part along a shared tangent) is shared by weight.
-        const auto wall = wall_node_of.find(first_dof);
         if (wall == wall_node_of.end() || wall->second->directions.size() < 2)
           {
             double total = 0;
@@ -337,27 +339,16 @@ namespace dieflow
   {
     const dealii::FEValuesExtractors::Vector velocities(0);
     const auto &                             fe = dof_handler.get_fe();
-    dealii::FEValues<dim> centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values);
     dealii::FEValues<dim> gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values);
-    PressureProjection<dim>              projection(fe);
-    const Vector<double>                 coefficients = cell_divergence(dof_handler, velocity);
-    std::vector<double>                  div(1);
-    std::vector<Tensor<2, dim>>          grad(gauss.n_quadrature_points);
-    double                               div_squared = 0, grad_squared = 0;
+    PressureProjection<dim>     projection(fe);
+    Vector<double>              coefficients(projection.n_modes());
+    std::vector<Tensor<2, dim>> grad(gauss.n_quadrature_points);
+    double                      div_squared = 0, grad_squared = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
-        if (fe.degree == 1)
-          {
-            centre.reinit(cell);
-            centre[velocities].get_function_divergences(velocity, div);
-            div_squared += div[0] * div[0] * centre.JxW(0);
-          }
-        else
-          {
-            projection.reinit(cell);
-            div_squared +=
-              projection.square_integral(coefficients.begin() + cell->active_cell_index() * projection.n_modes());
-          }
+        // What the penalty controls: ||P div v||^2 on the cell.
+        projection.project(cell, velocity, coefficients);
+        div_squared += projection.square_integral(coefficients.begin());
         gauss.reinit(cell);
         gauss[velocities].get_function_gradients(velocity, grad);
         for (const unsigned int q : gauss.quadrature_point_indices())

@@ -93,20 +93,6 @@ namespace dieflow
 
 
 
-  namespace
-  {
-    double
-    value_of(const CycleSummary &cycle, const std::string &name)
-    {
-      for (const auto &[n, v] : cycle.quantities)
-        if (n == name)
-          return v;
-      return 0;
-    }
-  } // namespace
-
-
-
   void
   StudyTable::add(const CycleSummary &cycle)
   {
@@ -176,7 +162,7 @@ namespace dieflow
     out << "extrapolated (Richardson, Q = Q* + C N^-p from the last three cycles):\n";
     for (const auto &[name, e] : extrapolations())
       {
-        const double last = cycles.back().quantities.empty() ? 0. : value_of(cycles.back(), name);
+        const double last = named_value(cycles.back().quantities, name);
         out << "  " << std::setw(10) << std::left << name << std::right << " = " << std::setprecision(8) << e.value
             << " +- " << std::setprecision(2) << e.error << " (" << std::setprecision(2)
             << (e.value != 0 ? 100 * e.error / std::abs(e.value) : 0.) << "%); last value " << std::setprecision(8)

@@ -73,10 +73,7 @@ namespace dieflow
         estimate[e.name] = e;
     const auto quantity = [&](const std::string &name, const std::string &unit) {
       std::ostringstream text;
-      double             value = 0;
-      for (const auto &[n, v] : last.quantities)
-        if (n == name)
-          value = v;
+      const double       value = named_value(last.quantities, name);
       text << std::setprecision(6) << value << ' ' << unit;
       if (const auto e = estimate.find(name); e != estimate.end())
         text << " +- " << std::setprecision(2) << e->second.estimate << " ("

@@ -199,6 +199,11 @@ namespace dieflow
     std::string
     cycling_note() const;
 
+    /// True where the deck's friction law of die id @p id transmits no
+    /// tangential force (mu = 0, or a zero Tresca bound).
+    bool
+    frictionless(const BoundaryId id) const;
+
     /// Friction coefficient of a die id (0 if none given).
     double
     friction_coefficient(const BoundaryId id) const;
@@ -248,6 +253,11 @@ namespace dieflow
 
     FrictionLaw
     law_of(const Direction &direction) const;
+    /// The deck's law of die id @p id for a node of boundary weight
+    /// @p weight (the Tresca bound scales with it), without the cycling
+    /// guard's regularisation and the stick penalty.
+    FrictionLaw
+    law_of(const BoundaryId id, const double weight) const;
     /// c of the semismooth rules (force per velocity): (active set
     /// constant) x eta_m x w / h.
     double

@@ -78,6 +78,13 @@ namespace dieflow
     void
     project(const std::vector<double> &local_velocity, dealii::Vector<double> &coefficients) const;
 
+    /// reinit() on @p cell, then the coefficients of P div v there from the
+    /// global dof vector @p velocity.
+    void
+    project(const typename dealii::DoFHandler<dim>::active_cell_iterator &cell,
+            const dealii::Vector<double> &                                velocity,
+            dealii::Vector<double> &                                      coefficients);
+
     /// The value at @p x of the field with the given coefficients on the cell.
     double
     value(const double *coefficients, const dealii::Point<dim> &x) const;
@@ -98,6 +105,8 @@ namespace dieflow
     dealii::FullMatrix<double> M;
     dealii::Point<dim>         centroid;
     double                     h = 1;
+    std::vector<dealii::types::global_dof_index> cell_dofs;
+    std::vector<double>                          cell_velocity;
   };
 } // namespace dieflow
 

@@ -36,6 +36,26 @@ namespace dieflow
     std::array<dealii::Point<dim>, dim> facet;
   };
 
+  /// Outward unit normal of a straight (planar) boundary face of @p cell.
+  template <int dim, typename CellIterator>
+  Tensor<1, dim>
+  outward_unit_normal(const CellIterator &cell, const unsigned int face_no)
+  {
+    const auto     face = cell->face(face_no);
+    Tensor<1, dim> n;
+    if constexpr (dim == 2)
+      {
+        const Tensor<1, dim> t = face->vertex(1) - face->vertex(0);
+        n[0]                   = t[1];
+        n[1]                   = -t[0];
+      }
+    else
+      n = dealii::cross_product_3d(face->vertex(3) - face->vertex(0), face->vertex(2) - face->vertex(1));
+    if (n * (face->center() - cell->center()) < 0)
+      n *= -1;
+    return n / n.norm();
+  }
+
   /**
    * A node of a boundary face as the velocity element sees it: a vertex,
    * or for degree 2 also an edge midpoint; its velocity dofs, position, the

@@ -29,7 +29,8 @@ namespace dieflow
   struct WallShare
   {
     BoundaryId     id;
-    GlobalDof      first_dof;
+    /// The wall's unit normal at the node.
+    Tensor<1, dim> normal;
     Tensor<1, dim> force;
   };
 

@@ -119,6 +119,19 @@ namespace dieflow
     std::vector<IterationRecord> history;
   };
 
+  /// The value named @p name among (name, value) pairs such as
+  /// CycleSummary::quantities, or @p otherwise.
+  inline double
+  named_value(const std::vector<std::pair<std::string, double>> &named,
+              const std::string &                                name,
+              const double                                       otherwise = 0)
+  {
+    for (const auto &[n, v] : named)
+      if (n == name)
+        return v;
+    return otherwise;
+  }
+
   struct RunSummary
   {
     bool                      converged = false;
