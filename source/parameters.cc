@@ -4,6 +4,9 @@
 #include <deal.II/base/utilities.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <sstream>
 
 namespace dieflow
@@ -47,6 +50,26 @@ namespace dieflow
 
 
   void
+  check_output_directory(const std::string &directory)
+  {
+    // Found now, not when the first result is written after a long solve.
+    std::error_code error;
+    std::filesystem::create_directories(directory, error);
+    require(!error,
+            "Output directory",
+            "cannot create '" + directory + "': " + error.message());
+    require(std::filesystem::is_directory(directory, error),
+            "Output directory",
+            "'" + directory + "' is not a directory");
+    const std::filesystem::path probe = std::filesystem::path(directory) / ".dieflow-write-check";
+    const bool                  writable = static_cast<bool>(std::ofstream(probe));
+    std::filesystem::remove(probe, error);
+    require(writable, "Output directory", "cannot write in '" + directory + "' (read-only or no permission)");
+  }
+
+
+
+  void
   RunParameters::parse_parameters(ParameterHandler &prm)
   {
     dimension        = prm.get_integer("Dimension");
@@ -57,6 +80,20 @@ namespace dieflow
     require(!output_directory.empty(),
             "Output directory",
             "must not be empty (use . for the working directory)");
+    check_output_directory(output_directory);
+  }
+
+
+
+  std::string
+  deck_number(const double x)
+  {
+    const double exponent = std::round(std::log10(x));
+    if (x > 0 && std::abs(exponent) >= 3 && std::abs(x - std::pow(10., exponent)) <= 1e-12 * x)
+      return "1e" + std::to_string(static_cast<int>(exponent));
+    std::ostringstream s;
+    s << std::setprecision(3) << x;
+    return s.str();
   }
 
 

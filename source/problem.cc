@@ -1,8 +1,11 @@
 #include <dieflow/expressions.h>
 #include <dieflow/flow/pressure_projection.h>
+#include <dieflow/interrupt.h>
+#include <dieflow/mesh/singular_points.h>
+#include <dieflow/postprocess/atomic_file.h>
+#include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/postprocess/postprocess.h>
 #include <dieflow/problem.h>
-#include <dieflow/mesh/singular_points.h>
 
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -598,6 +601,7 @@ namespace dieflow
     summary.boundary_force =
       boundary_forces(dof_handler, reactions, boundary_conditions, wall_nodes, frictionless, &wall_shares);
     summary.divergence_ratio = divergence_ratio(dof_handler, velocity);
+    summary.mass_balance     = mass_balance(dof_handler, velocity, summary.flux);
     summary.penalty          = assembler.get_penalty();
     summary.mean_viscosity   = mean_viscosity;
     summary.error_estimate = kelly_estimate(dof_handler, velocity);
@@ -822,6 +826,58 @@ namespace dieflow
 
 
   template <int dim>
+  std::vector<std::string>
+  DieFlowProblem<dim>::contact_changes() const
+  {
+    return contact_parameters.settling_changes();
+  }
+
+
+
+  template <int dim>
+  std::vector<std::string>
+  DieFlowProblem<dim>::law_changes() const
+  {
+    return material.range_changes();
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::guard_mass_balance(CycleSummary &cycle, NonlinearResult &result, RunSummary &summary) const
+  {
+    const double tolerance = nonlinear_solver.mass_balance_tolerance;
+    if (tolerance == 0)
+      {
+        cycle.mass_balance_status = "off";
+        return;
+      }
+    const MassBalance &balance = cycle.mass_balance;
+    cycle.mass_balance_status  = mass_balance_status(balance, tolerance);
+    if (cycle.mass_balance_status == "ok")
+      return;
+    std::ostringstream what;
+    what << "the penalty lost " << std::setprecision(2) << 100 * balance.worst()
+         << " % of the flow (mass balance " << std::scientific << balance.loss << ", cells' volume change "
+         << balance.volume_change << std::defaultfloat << ", against Nonlinear solver/Mass balance tolerance = "
+         << tolerance << "): the forces are off by about as much; "
+         << mass_balance_advice(balance, tolerance, penalty_factor(), augmented, linear_solver.divergence_tolerance);
+    if (cycle.mass_balance_status == "failed")
+      {
+        cycle.converged  = false;
+        result.converged = false;
+        result.failure   = what.str();
+        return;
+      }
+    const std::string warning = "cycle " + std::to_string(cycle.cycle) + ": " + what.str();
+    summary.warnings.push_back(warning);
+    log << "  warning: " << what.str() << std::endl;
+  }
+
+
+
+  template <int dim>
   RunSummary
   DieFlowProblem<dim>::run()
   {
@@ -834,6 +890,13 @@ namespace dieflow
     for (unsigned int cycle = 0; cycle < refinement.cycles; ++cycle)
       {
         dealii::Timer cycle_timer;
+        if (cycle > 0 && interrupt::requested())
+          {
+            summary.interrupted = true;
+            summary.failure     = "stopped by " + interrupt::signal_name() + " before cycle " + std::to_string(cycle);
+            log << "  INTERRUPTED before cycle " << cycle << std::endl;
+            break;
+          }
         if (cycle > 0)
           {
             refine_mesh();
@@ -878,6 +941,8 @@ namespace dieflow
           }
 
         postprocess(cycle_summary);
+        if (result.converged)
+          guard_mass_balance(cycle_summary, result, summary);
         cycle_summary.wall_time = cycle_timer.wall_time();
         study.add(cycle_summary);
         if (cycle > 0)
@@ -887,6 +952,7 @@ namespace dieflow
 
         if (!result.converged)
           {
+            summary.interrupted = result.interrupted;
             summary.failure = "cycle " + std::to_string(cycle) + ": " + result.failure;
             log << "  NOT CONVERGED: " << result.failure << std::endl;
             break;
@@ -918,8 +984,9 @@ namespace dieflow
         summary.extrapolated.push_back(q);
       }
     {
-      std::ofstream table(run_parameters.output_directory + "/study.txt");
-      study.write(table);
+      AtomicFile table(run_parameters.output_directory + "/study.txt");
+      study.write(table.stream());
+      table.commit();
       if (refinement.cycles > 1)
         study.write(log);
     }

@@ -1,3 +1,4 @@
+#include <dieflow/interrupt.h>
 #include <dieflow/problem.h>
 #include <dieflow/run.h>
 
@@ -217,12 +218,19 @@ namespace dieflow
         ParameterHandler prm;
         read_deck(argument, prm);
         std::cout << "dieflow: " << argument << std::endl;
+        interrupt::install_handlers();
         const RunSummary summary =
           run_deck(prm, std::filesystem::path(argument).parent_path().string(), std::cout);
-        std::cout << (summary.converged ? "converged" : "NOT converged: " + summary.failure) << "; results in "
-                  << prm.get("Output directory") << "/ (summary.json"
-                  << (prm.get_bool("Write VTU") ? ", solution.pvd)" : ")") << ", wall time "
-                  << summary.wall_time << " s" << std::endl;
+        const std::string results = prm.get("Output directory") + "/ (summary.json" +
+                                    (prm.get_bool("Write VTU") ? ", solution.pvd)" : ")");
+        if (summary.interrupted)
+          std::cout << "INTERRUPTED: " << summary.failure << "; the results so far are in " << results
+                    << ", summary.json marked \"interrupted\": true. A steady run has no checkpoint: run the deck "
+                       "again to finish it"
+                    << std::endl;
+        else
+          std::cout << (summary.converged ? "converged" : "NOT converged: " + summary.failure) << "; results in "
+                    << results << ", wall time " << summary.wall_time << " s" << std::endl;
         return summary.converged ? exit_converged : exit_not_converged;
       }
     catch (const InputError &error)

@@ -2,7 +2,8 @@
 // an unknown option or a missing deck exit 1 with one line on stderr, and a
 // bad deck named without a directory (in the working directory) exits 1
 // at once with its message (this once hung: the file name in deal.II's
-// message was replaced by itself forever).
+// message was replaced by itself forever), and so does an output directory
+// that cannot be created (it once ended in an internal error, exit 3).
 #include <dieflow/run.h>
 
 #include "report.h"
@@ -51,4 +52,10 @@ main()
   const auto bad = run({"dieflow", "bad.prm"});
   report("a bad deck in the working directory exits 1 with one line", bad.first == 1 && one_line(bad.second));
   std::cout << bad.second;
+  std::ofstream("unwritable.prm") << "set Output directory = /dev/null/results\n";
+  const auto unwritable = run({"dieflow", "unwritable.prm"});
+  report("an output directory that cannot be created exits 1 with one line naming it, not 3",
+         unwritable.first == 1 && one_line(unwritable.second) &&
+           unwritable.second.find("Output directory") != std::string::npos);
+  std::cout << unwritable.second;
 }

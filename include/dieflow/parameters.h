@@ -42,6 +42,17 @@ namespace dieflow
     parse_parameters(ParameterHandler &prm);
   };
 
+  /// Creates @p directory if need be and checks that a file can be
+  /// written in it; an InputError naming Output directory if not.
+  void
+  check_output_directory(const std::string &directory);
+
+  /// A number as a deck would write it: 1e7 for a power of ten from 1e3
+  /// (or 1e-3) on, else three significant digits (for messages that name a
+  /// setting).
+  std::string
+  deck_number(const double x);
+
   /**
    * Parses a comma-separated list of boundary ids ("3, 4"); the entry name
    * goes into the error message.

@@ -86,6 +86,10 @@ namespace dieflow
     {
       return prescribed_speed;
     }
+    std::vector<std::string>
+    contact_changes() const override;
+    std::vector<std::string>
+    law_changes() const override;
     std::string
     state_note() const override
     {
@@ -143,6 +147,11 @@ namespace dieflow
     {
       return augmented ? "augmented-Lagrangian penalty r" : "penalty lambda";
     }
+    /// The mass-balance guard on a converged cycle (mass_balance.h): a
+    /// failure makes the cycle not converged, a warning goes to the log and
+    /// to @p summary.
+    void
+    guard_mass_balance(CycleSummary &cycle, NonlinearResult &result, RunSummary &summary) const;
     void
     setup_system();
     void

@@ -1,4 +1,5 @@
 #include <dieflow/contact/contact.h>
+#include <dieflow/postprocess/atomic_file.h>
 
 #include <deal.II/base/utilities.h>
 
@@ -133,6 +134,39 @@ namespace dieflow
             "Contact/Regularisation velocity",
             "must be positive for the regularised Coulomb law");
     prm.leave_subsection();
+  }
+
+
+
+  std::vector<std::string>
+  ContactParameters::settling_changes() const
+  {
+    // Only what the deck does not say already: a smooth or pressure-free
+    // law has no stick/slip switch to cycle on.
+    const auto any_positive = [](const std::map<BoundaryId, double> &values) {
+      return std::any_of(values.begin(), values.end(), [](const auto &v) { return v.second > 0; });
+    };
+    std::vector<std::string> changes;
+    switch (law)
+      {
+        case FrictionLaw::Kind::coulomb:
+          changes.emplace_back("set Contact/Friction law = Tresca or regularised Coulomb");
+          if (any_positive(friction_coefficient))
+            changes.emplace_back("lower Contact/Friction coefficients");
+          break;
+        case FrictionLaw::Kind::tresca:
+          changes.emplace_back("set Contact/Friction law = regularised Coulomb");
+          if (any_positive(tresca_factor))
+            changes.emplace_back("lower Contact/Tresca friction factors");
+          break;
+        case FrictionLaw::Kind::regularised_coulomb:
+          changes.emplace_back("raise Contact/Regularisation velocity (it is " + deck_number(regularisation_velocity) +
+                               ")");
+          if (any_positive(friction_coefficient))
+            changes.emplace_back("lower Contact/Friction coefficients");
+          break;
+      }
+    return changes;
   }
 
 
@@ -806,7 +840,8 @@ namespace dieflow
         if (points.empty())
           continue;
         const auto chain = along_the_wall(points);
-        std::ofstream out(directory + "/die-profile-" + std::to_string(id) + ".dat");
+        AtomicFile    file(directory + "/die-profile-" + std::to_string(id) + ".dat");
+        std::ostream &out = file.stream();
         out << "# die wall id " << id << ", ordered along the wall; forces per node over its boundary weight\n"
             << "# s(mm) x(mm) y(mm) contact_pressure(MPa) friction_stress(MPa) normal_velocity(mm/s) "
                "slip_velocity(mm/s) status(0 separated, 1 stick, 2 slip)\n";
@@ -820,6 +855,7 @@ namespace dieflow
                 << -r.normal_force / r.weight << ' ' << r.friction_force / r.weight << ' ' << r.normal_rate
                 << ' ' << r.slip_rate << ' ' << static_cast<int>(r.status) << '\n';
           }
+        file.commit();
       }
   }
 

@@ -1,4 +1,5 @@
 #include <dieflow/flow/pressure_projection.h>
+#include <dieflow/postprocess/atomic_file.h>
 #include <dieflow/postprocess/postprocess.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -554,8 +555,9 @@ namespace dieflow
         std::ofstream out(directory + "/" + stem + ".vtu");
         data_out.write_vtu(out);
         pvd_records.emplace_back(cycle, stem + ".vtu");
-        std::ofstream pvd(directory + "/solution.pvd");
-        dealii::DataOutBase::write_pvd_record(pvd, pvd_records);
+        AtomicFile pvd(directory + "/solution.pvd");
+        dealii::DataOutBase::write_pvd_record(pvd.stream(), pvd_records);
+        pvd.commit();
       }
     if (gnuplot)
       {

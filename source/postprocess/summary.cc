@@ -1,3 +1,4 @@
+#include <dieflow/postprocess/atomic_file.h>
 #include <dieflow/postprocess/summary.h>
 
 #include <cmath>
@@ -112,9 +113,11 @@ namespace dieflow
   void
   write_summary_json(const RunSummary &summary, const std::string &file_name)
   {
-    std::ofstream out(file_name);
+    AtomicFile    file(file_name);
+    std::ostream &out = file.stream();
     out << "{\n"
         << "  \"converged\": " << (summary.converged ? "true" : "false") << ",\n"
+        << "  \"interrupted\": " << (summary.interrupted ? "true" : "false") << ",\n"
         << "  \"wall_time\": " << number(summary.wall_time) << ",\n"
         << "  \"velocity_degree\": " << summary.velocity_degree << ",\n";
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
@@ -138,6 +141,10 @@ namespace dieflow
           << ", \"relative_error\": " << number(summary.target_error) << "},\n";
     if (!summary.failure.empty())
       out << "  \"failure\": " << string(summary.failure) << ",\n";
+    out << "  \"warnings\": [";
+    for (unsigned int i = 0; i < summary.warnings.size(); ++i)
+      out << (i == 0 ? "" : ", ") << string(summary.warnings[i]);
+    out << "],\n";
     out << "  \"cycles\": [";
     for (unsigned int c = 0; c < summary.cycles.size(); ++c)
       {
@@ -185,6 +192,10 @@ namespace dieflow
             << ", \"separated_reaction\": " << number(s.separated_reaction)
             << ", \"friction_power\": " << number(s.friction_power) << "},\n"
             << "      \"divergence_ratio\": " << number(s.divergence_ratio) << ",\n"
+            << "      \"mass_balance\": {\"loss\": " << number(s.mass_balance.loss)
+            << ", \"volume_change\": " << number(s.mass_balance.volume_change)
+            << ", \"reference_flux\": " << number(s.mass_balance.reference_flux) << ", \"status\": "
+            << string(s.mass_balance_status) << "},\n"
             << "      \"quantities\": {";
         for (unsigned int q = 0; q < s.quantities.size(); ++q)
           out << (q == 0 ? "" : ", ") << string(s.quantities[q].first) << ": " << number(s.quantities[q].second);
@@ -208,5 +219,6 @@ namespace dieflow
             << "    }";
       }
     out << "\n  ]\n}\n";
+    file.commit();
   }
 } // namespace dieflow

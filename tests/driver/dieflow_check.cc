@@ -60,6 +60,7 @@ namespace
     std::map<std::string, double> q;
     q["exit_status"] = exit_status;
     q["n_cycles"]    = summary.cycles.size();
+    q["n_warnings"]  = summary.warnings.size();
     q["target_reached"] = summary.target_reached ? double(*summary.target_reached) : std::nan("");
     const double nan = std::nan("");
     for (unsigned int c = 0; c < summary.cycles.size(); ++c)
@@ -73,6 +74,10 @@ namespace
         cycle["linear_solves"]      = s.linear_solves;
         cycle["contact_assemblies"] = s.contact_assemblies;
         cycle["divergence_ratio"]   = s.divergence_ratio;
+        cycle["mass_loss"]          = s.mass_balance.loss;
+        cycle["volume_change"]      = s.mass_balance.volume_change;
+        cycle["mass_balance_failed"] = s.mass_balance_status == "failed";
+        cycle["mass_balance_warning"] = s.mass_balance_status == "warning";
         cycle["penalty"]            = s.penalty;
         cycle["separated"]          = s.contact_nodes.separated;
         cycle["stick"]              = s.contact_nodes.stick;

@@ -41,6 +41,11 @@ namespace dieflow
     declare_parameters(ParameterHandler &prm);
     void
     parse_parameters(ParameterHandler &prm);
+
+    /// Deck changes that may let contact states that keep changing settle,
+    /// none of them in use already (for the failure message).
+    std::vector<std::string>
+    settling_changes() const;
   };
 
   /// What the contact adds to one node's equations in an assembly.

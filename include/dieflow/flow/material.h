@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace dieflow
 {
@@ -150,6 +151,16 @@ namespace dieflow
     {
       return law->is_linear() && minimum_viscosity <= 0 &&
              maximum_viscosity >= 1e300;
+    }
+
+    /// Deck changes that keep the law in its range when an iterate left it
+    /// (a larger minimum strain rate); none for a linear law.
+    std::vector<std::string>
+    range_changes() const
+    {
+      if (law->is_linear())
+        return {};
+      return {"raise Material/Minimum strain rate (it is " + deck_number(minimum_strain_rate) + ")"};
     }
 
     /// Replaces the law by a Newtonian one (the Newtonian start).

@@ -1,6 +1,7 @@
 #ifndef dieflow_summary_h
 #define dieflow_summary_h
 
+#include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/solvers/nonlinear_solver.h>
 #include <dieflow/parameters.h>
 
@@ -95,6 +96,10 @@ namespace dieflow
     double friction_power      = 0;
     /// ||div v||_L2 / ||grad v||_L2, div v at the cell centres.
     double                divergence_ratio = 0;
+    /// How much mass the penalty lost, and the guard's verdict on it:
+    /// "ok", "warning" or "failed" ("" when the cycle did not converge).
+    MassBalance mass_balance;
+    std::string mass_balance_status;
     std::optional<double> velocity_l2_error;
     std::optional<double> velocity_h1_error;
     /// The quantities of interest, in a fixed order: the force along x on
@@ -137,6 +142,11 @@ namespace dieflow
     bool                      converged = false;
     double                    wall_time = 0;
     std::string               failure;
+    /// One line each: what holds but is doubtful (a mass balance above a
+    /// tenth of its tolerance).
+    std::vector<std::string>  warnings;
+    /// Ended by SIGINT or SIGTERM before it finished (interrupt.h).
+    bool                      interrupted = false;
     std::vector<CycleSummary> cycles;
     /// Discretisation/Velocity degree (1: Q1-P0, 2: Q2-P1disc).
     unsigned int              velocity_degree = 1;

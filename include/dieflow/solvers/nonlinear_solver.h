@@ -75,6 +75,22 @@ namespace dieflow
       return "";
     }
 
+    /// Deck changes that may help the contact settle and are not in use
+    /// already ("Contact/Friction law = Tresca", ...), for failure messages.
+    virtual std::vector<std::string>
+    contact_changes() const
+    {
+      return {};
+    }
+
+    /// Deck changes that keep the viscosity law in its range (a larger
+    /// minimum strain rate), for failure messages; empty when none applies.
+    virtual std::vector<std::string>
+    law_changes() const
+    {
+      return {};
+    }
+
     /// The largest prescribed speed: updates far above it are not trusted.
     virtual double
     velocity_scale() const
@@ -132,6 +148,8 @@ namespace dieflow
     std::vector<IterationRecord> history;
     /// Why it stopped without convergence, and what to change.
     std::string failure;
+    /// Stopped by SIGINT or SIGTERM (interrupt.h).
+    bool interrupted = false;
   };
 
   /**
@@ -162,6 +180,15 @@ namespace dieflow
     NonlinearResult
     solve(NonlinearSystem &system, dealii::Vector<double> &v, std::ostream &log) const;
 
+    /**
+     * The changes of this solver's own settings that may help an iteration
+     * that failed, each one not in use already (a failure message never
+     * advises what the deck already says): the primal-dual tangent, Picard
+     * steps before Newton, or more of them.
+     */
+    std::vector<std::string>
+    method_changes() const;
+
   private:
     /// The accepted fraction of the Newton step @p update from @p v (0: none).
     double
@@ -178,6 +205,9 @@ namespace dieflow
     double       residual_tolerance         = 1e-8;
     double       update_tolerance           = 1e-8;
     unsigned int picard_iterations          = 2;
+    /// Largest share of the flow the penalty may lose in a converged
+    /// cycle (the check is the problem's: mass_balance.h); 0: off.
+    double       mass_balance_tolerance     = 1e-3;
     bool         line_search                = true;
     unsigned int maximum_line_search_steps  = 8;
   };

@@ -1,0 +1,95 @@
+#include <dieflow/postprocess/mass_balance.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace dieflow
+{
+  template <int dim>
+  MassBalance
+  mass_balance(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity, const std::map<BoundaryId, double> &flux)
+  {
+    double inflow = 0, outflow = 0, net = 0;
+    for (const auto &[id, q] : flux)
+      {
+        net += q;
+        (q < 0 ? inflow : outflow) += std::abs(q);
+      }
+    MassBalance balance;
+    balance.reference_flux = std::max(inflow, outflow);
+    if (balance.reference_flux == 0)
+      return balance;
+
+    // The cell integral of div v is what each cell gains or loses; Gauss
+    // points of degree + 1 integrate it exactly on parallelograms.
+    const auto &                             fe = dof_handler.get_fe();
+    dealii::FEValues<dim>                    values(fe, dealii::QGauss<dim>(fe.degree + 1),
+                                 dealii::update_gradients | dealii::update_JxW_values);
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    std::vector<double>                      divergence(values.n_quadrature_points);
+    double                                   volume_change = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        values.reinit(cell);
+        values[velocities].get_function_divergences(velocity, divergence);
+        double change = 0;
+        for (const unsigned int q : values.quadrature_point_indices())
+          change += divergence[q] * values.JxW(q);
+        volume_change += std::abs(change);
+      }
+    balance.loss          = std::abs(net) / balance.reference_flux;
+    balance.volume_change = volume_change / balance.reference_flux;
+    return balance;
+  }
+
+
+
+  std::string
+  mass_balance_status(const MassBalance &balance, const double tolerance)
+  {
+    if (balance.worst() > tolerance)
+      return "failed";
+    return balance.worst() > 0.1 * tolerance ? "warning" : "ok";
+  }
+
+
+
+  std::string
+  mass_balance_advice(const MassBalance &balance,
+                      const double       tolerance,
+                      const double       penalty_factor,
+                      const bool         augmented,
+                      const double       divergence_tolerance)
+  {
+    std::ostringstream advice;
+    if (augmented)
+      {
+        advice << "lower Linear solver/Divergence tolerance (it is " << deck_number(divergence_tolerance) << ")";
+        return advice.str();
+      }
+    // The penalty's compressibility scales as 1/lambda: the factor that
+    // brings the worse measure to a hundredth of the tolerance, rounded
+    // up to a power of ten.
+    constexpr double largest = 1e10;
+    const double     needed =
+      std::pow(10., std::ceil(std::log10(penalty_factor * balance.worst() / (0.01 * tolerance)) - 1e-9));
+    if (penalty_factor >= largest)
+      advice << "Material/Penalty factor = " << deck_number(penalty_factor)
+             << " is already at the limit of double precision (round-off grows as the factor); use Linear "
+                "solver/Method = iterative, whose augmented Lagrangian drives div v below its Divergence tolerance";
+    else
+      advice << "raise Material/Penalty factor (it is " << deck_number(penalty_factor) << ") to "
+             << deck_number(std::min(needed, largest))
+             << (needed > largest ? ", the limit of double precision" : "");
+    return advice.str();
+  }
+
+
+
+  template MassBalance
+  mass_balance<2>(const DoFHandler<2> &, const Vector<double> &, const std::map<BoundaryId, double> &);
+} // namespace dieflow
