@@ -11,13 +11,16 @@ file resolved against tests/. Decks run one after the other.
     python3 benchmarks/stress_table.py [--dieflow build/dieflow] [--write doc/stress.md]
 
 Prints the Markdown table; with --write, writes the whole document (the
-table, footnotes, machine and date). Build first: ./setup.sh run, or a
+table, footnotes, machine and date), keeping its section on the fuzz
+corpus (written by hand from benchmarks/fuzz_table.py). Build first: ./setup.sh run, or a
 Release build in build/. Not a test: the checks live in the decks.
 """
 import argparse, datetime, glob, json, math, os, re, subprocess, tempfile, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PREFIX = "# Numerical stress suite: "
+# Where the fuzz corpus's section of the document starts (kept by --write).
+FUZZ_MARKER = "## The fuzz corpus"
 # Bounds of the decks' own contact checks: a value above one is flagged.
 CONTACT_BOUNDS = {"penetration": 1e-6, "tension": 1e-6, "friction_excess": 1e-12,
                   "friction_power": 1e-12, "stick_slip_rate": 1e-8}
@@ -222,8 +225,14 @@ def main():
     body = table(results)
     print(body)
     if args.write:
+        # The fuzz corpus's section (benchmarks/fuzz_table.py) is kept.
+        kept = ""
+        if os.path.exists(args.write):
+            text = open(args.write).read()
+            if FUZZ_MARKER in text:
+                kept = "\n\n" + text[text.index(FUZZ_MARKER):].rstrip() + "\n"
         with open(args.write, "w") as f:
-            f.write(document(results, body, load))
+            f.write(document(results, body, load).rstrip() + "\n" + kept)
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <filesystem>
+#include <tuple>
 #include <fstream>
 #include <iomanip>
 
@@ -55,7 +56,7 @@ namespace dieflow
                       dealii::Patterns::Anything(),
                       "Point 'x, y' whose velocity is a quantity of interest of the "
                       "study; auto: for the die2d scene the exit velocity at mid-height, "
-                      "1 mm before the outlet; empty: none.");
+                      "1 mm before the outlet (half the land, if shorter); empty: none.");
     prm.leave_subsection();
 
     prm.enter_subsection("Discretisation");
@@ -111,7 +112,9 @@ namespace dieflow
         if (mesh_parameters.source == "die2d")
           {
             const auto E = mesh_parameters.die2d.corner('E');
-            probe        = dealii::Point<dim>(E[0] - 1, 0.5 * E[1]);
+            // In the land also when it is shorter than 2 mm.
+            const double before = std::min(1., 0.5 * mesh_parameters.die2d.land_length);
+            probe               = dealii::Point<dim>(E[0] - before, 0.5 * E[1]);
           }
       }
     else if (!probe_text.empty())
@@ -845,6 +848,58 @@ namespace dieflow
 
   template <int dim>
   void
+  DieFlowProblem<dim>::guard_contact(CycleSummary &cycle, NonlinearResult &result) const
+  {
+    if (contact.empty())
+      return;
+    // The inequalities the converged state must keep (contact_checks,
+    // relative): the active set's dead band of 1e-6, friction within its
+    // cone and opposing the slip to round-off, sticking nodes at rest to
+    // 1e-8. A direction held in contact to end a cycle of the states sits
+    // where contact gives way to separation, whose exact pressure is zero:
+    // its pull is that transition falling between nodes, allowed to 1e-4.
+    // Penalty enforcement keeps the first and the last only approximately.
+    const bool exact_normal = contact_parameters.normal_enforcement == "active set";
+    const bool exact_stick  = exact_normal && contact_parameters.stick_enforcement == "exact";
+    const std::vector<std::tuple<std::string, double, double, bool>> checks = {
+      {"penetration", cycle.contact_penetration, 1e-6, exact_normal},
+      {"pull of the die", cycle.contact_tension, cycle.held_in_contact > 0 ? 1e-4 : 1e-6, exact_normal},
+      {"friction beyond its bound", cycle.friction_excess, 1e-12, true},
+      {"friction driving the slip", cycle.friction_power, 1e-12, true},
+      {"sliding of sticking nodes", cycle.stick_slip_rate, 1e-8, exact_stick}};
+    std::ostringstream broken;
+    for (const auto &[name, value, bound, applies] : checks)
+      if (applies && !(value <= bound))
+        broken << (broken.tellp() > 0 ? ", " : "") << name << ' ' << std::setprecision(2) << value << " (above "
+               << bound << ")";
+    if (broken.tellp() == 0)
+      return;
+    std::ostringstream what;
+    what << "the converged state breaks the contact conditions: " << broken.str() << " of the largest force or speed";
+    if (cycle.held_in_contact > 0)
+      what << ", with " << cycle.held_in_contact << " direction(s) held in contact to end a cycle of the states";
+    what << "; ";
+    // Round-off, not the mesh, when the penalty is beyond double precision.
+    constexpr double largest_penalty = 1e10;
+    if (!augmented && material.penalty_factor > largest_penalty)
+      what << "lower Material/Penalty factor (it is " << deck_number(material.penalty_factor)
+           << ") to 1e10: beyond it round-off breaks the constraints";
+    else
+      {
+        std::vector<std::string> changes = contact_parameters.settling_changes();
+        changes.insert(changes.begin(), "refine the mesh at the die");
+        for (unsigned int i = 0; i < changes.size(); ++i)
+          what << (i == 0 ? "" : ", or ") << changes[i];
+      }
+    cycle.converged  = false;
+    result.converged = false;
+    result.failure   = what.str();
+  }
+
+
+
+  template <int dim>
+  void
   DieFlowProblem<dim>::guard_mass_balance(CycleSummary &cycle, NonlinearResult &result, RunSummary &summary) const
   {
     const double tolerance = nonlinear_solver.mass_balance_tolerance;
@@ -943,6 +998,8 @@ namespace dieflow
         postprocess(cycle_summary);
         if (result.converged)
           guard_mass_balance(cycle_summary, result, summary);
+        if (result.converged)
+          guard_contact(cycle_summary, result);
         cycle_summary.wall_time = cycle_timer.wall_time();
         study.add(cycle_summary);
         if (cycle > 0)

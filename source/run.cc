@@ -3,6 +3,8 @@
 #include <dieflow/run.h>
 
 #include <algorithm>
+#include <iomanip>
+#include <map>
 #include <filesystem>
 #include <numeric>
 #include <sstream>
@@ -115,6 +117,91 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// Length of the UTF-8 sequence that starts with @p c (0: not a lead byte).
+    unsigned int
+    utf8_length(const unsigned char c)
+    {
+      return c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xe ? 3 : (c >> 3) == 0x1e ? 4 : 0;
+    }
+  } // namespace
+
+
+
+  void
+  check_deck_text(const std::string &file_name)
+  {
+    std::ifstream      in(file_name, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    const std::string text = bytes.str();
+
+    // Text only: a control byte or broken UTF-8 means a binary or corrupted
+    // file, which ParameterHandler would read in part or misreport.
+    unsigned int line = 1;
+    for (std::size_t i = 0; i < text.size();)
+      {
+        const unsigned char c = text[i];
+        if (c == '\n')
+          ++line;
+        unsigned int length = utf8_length(c);
+        for (unsigned int k = 1; k < length; ++k)
+          if (i + k >= text.size() || (static_cast<unsigned char>(text[i + k]) >> 6) != 0x2)
+            length = 0;
+        if (length == 0 || (c < 0x20 && c != '\n' && c != '\r' && c != '\t') || c == 0x7f)
+          {
+            std::ostringstream byte;
+            byte << "0x" << std::hex << std::setw(2) << std::setfill('0') << static_cast<unsigned int>(c);
+            throw InputError("deck: line " + std::to_string(line) + " has the byte " + byte.str() +
+                             ", which is not text (a binary or corrupted file?)");
+          }
+        i += length;
+      }
+
+    // An entry set twice: ParameterHandler keeps the last value silently,
+    // which is almost always an edit that left the old line behind.
+    std::istringstream                 lines(text);
+    std::vector<std::string>           path;
+    std::map<std::string, unsigned int> first_line;
+    std::string                        physical, logical;
+    unsigned int                       number = 0, start = 0;
+    while (std::getline(lines, physical))
+      {
+        ++number;
+        if (logical.empty())
+          start = number;
+        physical = physical.substr(0, physical.find('#'));
+        const std::string trimmed = dealii::Utilities::trim(physical);
+        if (!trimmed.empty() && trimmed.back() == '\\')
+          {
+            logical += trimmed.substr(0, trimmed.size() - 1) + ' ';
+            continue;
+          }
+        logical += trimmed;
+        const std::string statement = dealii::Utilities::trim(logical);
+        logical.clear();
+        if (statement.rfind("subsection ", 0) == 0)
+          path.push_back(dealii::Utilities::trim(statement.substr(11)));
+        else if (statement == "end" && !path.empty())
+          path.pop_back();
+        else if (statement.rfind("set ", 0) == 0 && statement.find('=') != std::string::npos)
+          {
+            std::string name;
+            for (const auto &part : path)
+              name += part + "/";
+            name += dealii::Utilities::trim(statement.substr(4, statement.find('=') - 4));
+            const auto [at, inserted] = first_line.emplace(name, start);
+            if (!inserted)
+              throw InputError("deck: line " + std::to_string(start) + " sets " + name +
+                               " a second time (first on line " + std::to_string(at->second) +
+                               "); delete one of the two");
+          }
+      }
+  }
+
+
+
   void
   read_deck(const std::string &                            file_name,
             ParameterHandler &                             prm,
@@ -123,6 +210,7 @@ namespace dieflow
     require(static_cast<bool>(std::ifstream(file_name)),
             "deck",
             "cannot open '" + file_name + "' (missing or unreadable)");
+    check_deck_text(file_name);
     DeckLayout layout;
     {
       ParameterHandler first;

@@ -16,11 +16,14 @@ report(const std::string &claim, const bool holds)
   std::cout << claim << ": " << (holds ? "yes" : "NO") << std::endl;
 }
 
-/// Runs the deck @p text (written to deck.prm; results in results/, no VTU).
+/// Runs the deck @p text (written to deck.prm; results in results/, no VTU
+/// unless @p text sets Write VTU: an entry may be set only once).
 inline dieflow::RunSummary
 run_deck_text(const std::string &text)
 {
-  std::ofstream("deck.prm") << "set Output directory = results\nset Write VTU = false\n" << text;
+  const bool sets_vtu = text.find("set Write VTU") != std::string::npos;
+  std::ofstream("deck.prm") << "set Output directory = results\n"
+                            << (sets_vtu ? "" : "set Write VTU = false\n") << text;
   dieflow::ParameterHandler prm;
   dieflow::read_deck("deck.prm", prm);
   std::ostringstream log;

@@ -152,6 +152,12 @@ namespace dieflow
     /// to @p summary.
     void
     guard_mass_balance(CycleSummary &cycle, NonlinearResult &result, RunSummary &summary) const;
+    /// A converged cycle whose state breaks the contact conditions
+    /// (contact_checks beyond their bounds: penetration or pull 1e-6, or
+    /// 1e-4 where directions were held in contact to end a cycle of the
+    /// states; friction 1e-12; sticking speed 1e-8) is not converged.
+    void
+    guard_contact(CycleSummary &cycle, NonlinearResult &result) const;
     void
     setup_system();
     void

@@ -30,6 +30,16 @@ namespace dieflow
             ParameterHandler &                             prm,
             const std::function<void(ParameterHandler &)> &extra = {});
 
+  /**
+   * What ParameterHandler does not check in a deck: that it is text (no
+   * control byte, valid UTF-8, so a binary or truncated-by-corruption file
+   * is named as such), and that no entry is set twice in the same
+   * subsection (ParameterHandler would keep the last silently). An
+   * InputError naming the line if not.
+   */
+  void
+  check_deck_text(const std::string &file_name);
+
   /// Declares the default deck (die2d) for printing.
   void
   declare_default_deck(ParameterHandler &prm);

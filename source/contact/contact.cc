@@ -743,6 +743,13 @@ namespace dieflow
     summary.contact_tension /= std::max(largest_force, 1e-300);
     summary.friction_excess /= std::max(largest_bound, 1e-300);
     summary.separated_reaction /= std::max(largest_force, 1e-300);
+    summary.held_in_contact = summary.regularised_friction = 0;
+    for (const auto &node : nodes)
+      for (const auto &dir : node.directions)
+        {
+          summary.held_in_contact += dir.held_in_contact;
+          summary.regularised_friction += dir.regularised;
+        }
 
     // A node is separated when no wall holds it, stick when held at rest
     // (two walls, or a sticking one), slip otherwise.

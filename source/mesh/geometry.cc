@@ -124,7 +124,9 @@ namespace dieflow
                           "How the three blocks meet: blocks: along the verticals "
                           "through the die entry C and exit D; bisected: along the "
                           "bisectors of the corners C and D, so that no cell at a die "
-                          "corner is flattened (for a flat die both are the same).");
+                          "corner is flattened (for a flat die both are the same; "
+                          "where the two bisectors would cross before the axis, a "
+                          "small reduction through a short steep die, blocks).");
         prm.declare_entry("Cells across",
                           "4",
                           Integer(1, 4096),
@@ -264,7 +266,9 @@ namespace dieflow
     unsigned int
     cells_along(const double length, const double cell_size)
     {
-      return std::max(1u, static_cast<unsigned int>(std::lround(length / cell_size)));
+      // At least one cell, also for a degenerate length.
+      const long n = std::lround(length / cell_size);
+      return n >= 1 ? static_cast<unsigned int>(n) : 1u;
     }
 
     void
@@ -279,8 +283,17 @@ namespace dieflow
       Triangulation<2> land;
       make_block(Point<2>(x_d, 0), F, D, E, cells_along(g.land_length, h_o / ny), ny, land);
 
+      // The bisectors of C and D meet the axis at x_1 and x_2; for a small
+      // reduction through a short steep die they cross before the axis
+      // (x_2 < x_1), and the bisected layout would turn the converging
+      // block inside out: it then falls back to the vertical blocks.
+      const double half_beta = 0.5 * g.die_angle_degrees * dealii::numbers::PI / 180.;
+      const double x_1 = std::max(-h_i * std::tan(half_beta), A[0] + 0.25 * g.container_length);
+      const double x_2 = x_d - h_o * std::tan(half_beta);
+      const bool   bisectors_apart = x_2 > x_1 + 0.25 * C.distance(D);
+
       std::vector<Triangulation<2>> blocks(2);
-      if (x_d > 1e-9 * h_i && g.layout == "bisected")
+      if (x_d > 1e-9 * h_i && g.layout == "bisected" && bisectors_apart)
         {
           // The container and the converging zone meet on the bisector of the
           // die entry C, the converging zone and the land on that of the die
@@ -290,9 +303,6 @@ namespace dieflow
           // at C and 90 + beta at D (160 degrees for the 70-degree die), which
           // a bilinear cell resolves badly exactly where the solution is
           // singular.
-          const double half_beta = 0.5 * g.die_angle_degrees * dealii::numbers::PI / 180.;
-          const double x_1 = std::max(-h_i * std::tan(half_beta), A[0] + 0.25 * g.container_length);
-          const double x_2 = x_d - h_o * std::tan(half_beta);
           const double across_c = 0.5 * (h_i + C.distance(Point<2>(x_1, 0))) / ny;
           make_block(A, Point<2>(x_1, 0), B, C,
                      cells_along(0.5 * (g.container_length + x_1 - A[0]), across_c), ny, blocks[0]);

@@ -190,7 +190,9 @@ namespace dieflow
             << ", \"tension\": " << number(s.contact_tension) << ", \"friction_excess\": "
             << number(s.friction_excess) << ", \"stick_slip_rate\": " << number(s.stick_slip_rate)
             << ", \"separated_reaction\": " << number(s.separated_reaction)
-            << ", \"friction_power\": " << number(s.friction_power) << "},\n"
+            << ", \"friction_power\": " << number(s.friction_power)
+            << ", \"held_in_contact\": " << s.held_in_contact
+            << ", \"regularised_friction\": " << s.regularised_friction << "},\n"
             << "      \"divergence_ratio\": " << number(s.divergence_ratio) << ",\n"
             << "      \"mass_balance\": {\"loss\": " << number(s.mass_balance.loss)
             << ", \"volume_change\": " << number(s.mass_balance.volume_change)

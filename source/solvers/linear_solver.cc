@@ -18,6 +18,10 @@ namespace dieflow
     SuiteSparse()
     {
       cholmod_l_start(&common);
+      // A matrix that is not positive definite is reported through
+      // common.status and goes to LU; CHOLMOD's own warning on stderr would
+      // only be noise in the user's log.
+      common.print = 0;
       umfpack_dl_defaults(control);
     }
 

@@ -94,6 +94,12 @@ namespace dieflow
     /// Largest power F_t v.t > 0 of a friction force that drives its slip
     /// instead of opposing it, over (largest |F_t|) x (largest speed).
     double friction_power      = 0;
+    /// Directions held in contact, and friction laws regularised, to end
+    /// a cycle of the contact states (a held node sits where contact
+    /// gives way to separation: its small pull is that transition falling
+    /// between two nodes).
+    unsigned int held_in_contact      = 0;
+    unsigned int regularised_friction = 0;
     /// ||div v||_L2 / ||grad v||_L2, div v at the cell centres.
     double                divergence_ratio = 0;
     /// How much mass the penalty lost, and the guard's verdict on it:

@@ -1,0 +1,117 @@
+// The fuzz corpus of the suite: decks drawn from fixed seeds, run through
+// the command line in this process, judged by what a user's script sees
+// (the exit status, the lines on stderr, summary.json).
+#ifndef dieflow_tests_fuzz_h
+#define dieflow_tests_fuzz_h
+
+#include <dieflow/run.h>
+
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fuzz
+{
+  /**
+   * Draws from std::mt19937, whose sequence the C++ standard fixes (its
+   * distributions it does not), so every machine draws the same corpus.
+   */
+  class Draw
+  {
+  public:
+    explicit Draw(const unsigned int seed)
+      : generator(seed)
+    {}
+
+    /// Uniform in [a, b).
+    double
+    uniform(const double a, const double b)
+    {
+      return a + (b - a) * (generator() / 4294967296.);
+    }
+
+    /// Log-uniform in [a, b).
+    double
+    log_uniform(const double a, const double b)
+    {
+      return std::exp(uniform(std::log(a), std::log(b)));
+    }
+
+    /// Uniform in {a, ..., b}.
+    unsigned int
+    integer(const unsigned int a, const unsigned int b)
+    {
+      return a + generator() % (b - a + 1);
+    }
+
+    bool
+    chance(const double p)
+    {
+      return uniform(0, 1) < p;
+    }
+
+  private:
+    std::mt19937 generator;
+  };
+
+  /// What the command line did with a deck: exit status, stderr.
+  struct Outcome
+  {
+    int         status = -1;
+    std::string error;
+
+    /// Exactly one line on stderr, the program's error line.
+    bool
+    one_error_line() const
+    {
+      return error.rfind("dieflow: error: ", 0) == 0 && error.find('\n') == error.size() - 1;
+    }
+  };
+
+  /// Writes @p text to @p file and runs `dieflow file`, stdout swallowed.
+  inline Outcome
+  run(const std::string &file, const std::string &text)
+  {
+    std::ofstream(file, std::ios::binary) << text;
+    std::string        name = "dieflow", argument = file;
+    char *             argv[] = {name.data(), argument.data()};
+    std::ostringstream out, err;
+    std::streambuf *   cout_buffer = std::cout.rdbuf(out.rdbuf());
+    std::streambuf *   cerr_buffer = std::cerr.rdbuf(err.rdbuf());
+    Outcome            outcome;
+    outcome.status = dieflow::run_command_line(2, argv);
+    std::cout.rdbuf(cout_buffer);
+    std::cerr.rdbuf(cerr_buffer);
+    outcome.error = err.str();
+    return outcome;
+  }
+
+  /// summary.json of @p directory read as JSON (throws if it is not JSON).
+  inline boost::property_tree::ptree
+  summary(const std::string &directory)
+  {
+    boost::property_tree::ptree tree;
+    boost::property_tree::read_json(directory + "/summary.json", tree);
+    return tree;
+  }
+
+  /// A finite number from a JSON value ("null", a non-finite value, is NaN).
+  inline double
+  number(const boost::property_tree::ptree &tree, const std::string &path)
+  {
+    const std::string text = tree.get<std::string>(boost::property_tree::ptree::path_type(path, '|'), "null");
+    char *            end  = nullptr;
+    const double      x    = std::strtod(text.c_str(), &end);
+    return (end != text.c_str() && *end == '\0') ? x : std::nan("");
+  }
+} // namespace fuzz
+
+#endif
