@@ -86,6 +86,19 @@ namespace dieflow
 
 
   std::string
+  one_of_changes(const std::vector<std::string> &changes, const std::string &otherwise)
+  {
+    if (changes.empty())
+      return otherwise;
+    std::string text = changes.front();
+    for (unsigned int i = 1; i < changes.size(); ++i)
+      text += ", or " + changes[i];
+    return text;
+  }
+
+
+
+  std::string
   deck_number(const double x)
   {
     const double exponent = std::round(std::log10(x));

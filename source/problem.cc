@@ -832,7 +832,9 @@ namespace dieflow
   std::vector<std::string>
   DieFlowProblem<dim>::contact_changes() const
   {
-    return contact_parameters.settling_changes();
+    std::vector<std::string> changes = contact_parameters.settling_changes();
+    changes.insert(changes.begin(), "refine the mesh at the die");
+    return changes;
   }
 
 
@@ -885,12 +887,7 @@ namespace dieflow
       what << "lower Material/Penalty factor (it is " << deck_number(material.penalty_factor)
            << ") to 1e10: beyond it round-off breaks the constraints";
     else
-      {
-        std::vector<std::string> changes = contact_parameters.settling_changes();
-        changes.insert(changes.begin(), "refine the mesh at the die");
-        for (unsigned int i = 0; i < changes.size(); ++i)
-          what << (i == 0 ? "" : ", or ") << changes[i];
-      }
+      what << one_of_changes(contact_changes(), "");
     cycle.converged  = false;
     result.converged = false;
     result.failure   = what.str();
@@ -939,7 +936,6 @@ namespace dieflow
     dealii::Timer run_timer;
     RunSummary    summary;
     summary.velocity_degree = fe.degree;
-    std::filesystem::create_directories(run_parameters.output_directory);
     const std::string summary_file = run_parameters.output_directory + "/summary.json";
 
     for (unsigned int cycle = 0; cycle < refinement.cycles; ++cycle)

@@ -108,7 +108,7 @@ namespace
     std::vector<std::string>
     contact_changes() const override
     {
-      return {"set Contact/Friction law = regularised Coulomb"};
+      return {"refine the mesh at the die", "set Contact/Friction law = regularised Coulomb"};
     }
     std::vector<std::string>
     law_changes() const override

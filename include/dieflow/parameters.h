@@ -47,6 +47,11 @@ namespace dieflow
   void
   check_output_directory(const std::string &directory);
 
+  /// "A, or B, or C" of the deck changes a message offers; @p otherwise
+  /// when there is none.
+  std::string
+  one_of_changes(const std::vector<std::string> &changes, const std::string &otherwise);
+
   /// A number as a deck would write it: 1e7 for a power of ten from 1e3
   /// (or 1e-3) on, else three significant digits (for messages that name a
   /// setting).

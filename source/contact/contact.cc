@@ -4,6 +4,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -190,8 +191,8 @@ namespace dieflow
 
 
   template <int dim>
-  std::string
-  ContactSet<dim>::cycling_note() const
+  std::pair<unsigned int, unsigned int>
+  ContactSet<dim>::cycle_breaks() const
   {
     unsigned int held = 0, regularised = 0;
     for (const auto &node : nodes)
@@ -200,6 +201,16 @@ namespace dieflow
           held += dir.held_in_contact;
           regularised += dir.regularised;
         }
+    return {held, regularised};
+  }
+
+
+
+  template <int dim>
+  std::string
+  ContactSet<dim>::cycling_note() const
+  {
+    const auto [held, regularised] = cycle_breaks();
     if (held + regularised == 0)
       return "";
     return "the states cycled: " + std::to_string(held) + " direction(s) held in contact, " +
@@ -743,13 +754,7 @@ namespace dieflow
     summary.contact_tension /= std::max(largest_force, 1e-300);
     summary.friction_excess /= std::max(largest_bound, 1e-300);
     summary.separated_reaction /= std::max(largest_force, 1e-300);
-    summary.held_in_contact = summary.regularised_friction = 0;
-    for (const auto &node : nodes)
-      for (const auto &dir : node.directions)
-        {
-          summary.held_in_contact += dir.held_in_contact;
-          summary.regularised_friction += dir.regularised;
-        }
+    std::tie(summary.held_in_contact, summary.regularised_friction) = cycle_breaks();
 
     // A node is separated when no wall holds it, stick when held at rest
     // (two walls, or a sticking one), slip otherwise.

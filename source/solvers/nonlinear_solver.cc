@@ -121,18 +121,6 @@ namespace dieflow
              << r.state_changes.tangential;
       log << line.str() << std::endl;
     }
-    /// "A, or B, or C"; @p otherwise when there is no change to offer.
-    std::string
-    one_of(const std::vector<std::string> &changes, const std::string &otherwise)
-    {
-      if (changes.empty())
-        return otherwise;
-      std::string text = changes.front();
-      for (unsigned int i = 1; i < changes.size(); ++i)
-        text += ", or " + changes[i];
-      return text;
-    }
-
     /// Why the iteration stopped at its limit, and what to change: the
     /// contact if its states kept changing or cycled, else the limit.
     std::string
@@ -157,18 +145,16 @@ namespace dieflow
       const std::string contact_note = system.state_note();
       if (still_changing || !contact_note.empty())
         {
-          std::vector<std::string> changes = system.contact_changes();
-          changes.insert(changes.begin(), "refine the mesh at the die");
           why << "; the contact did not settle (" << recent.normal << " active-set and " << recent.tangential
               << " stick/slip changes in the last five iterations"
-              << (contact_note.empty() ? "" : "; " + contact_note) << "): " << one_of(changes, "");
+              << (contact_note.empty() ? "" : "; " + contact_note) << "): " << one_of_changes(system.contact_changes(), "");
         }
       else
         {
           std::vector<std::string> changes = method_changes;
           changes.insert(changes.begin(),
                          "raise Nonlinear solver/Maximum iterations (it is " + std::to_string(maximum_iterations) + ")");
-          why << "; " << one_of(changes, "");
+          why << "; " << one_of_changes(changes, "");
         }
       return why.str();
     }
@@ -254,7 +240,7 @@ namespace dieflow
               changes.push_back(change);
             result.failure = "the residual is not a number at iteration " + std::to_string(k) +
                              ": the iterate left the range of the viscosity law; " +
-                             one_of(changes, "check the Material entries (the law is evaluated outside its range)");
+                             one_of_changes(changes, "check the Material entries (the law is evaluated outside its range)");
             return result;
           }
         // A linear problem (Newtonian, no contact) is solved by its first
@@ -292,7 +278,7 @@ namespace dieflow
                 std::string(failure.what()) + " at iteration " + std::to_string(k) +
                 (linearization == Linearization::newton ?
                    "; the tangent lost its definiteness far from the solution: " +
-                     one_of(method_changes(), "set Nonlinear solver/Method = Picard") :
+                     one_of_changes(method_changes(), "set Nonlinear solver/Method = Picard") :
                    "; the Picard matrix is singular: most often the boundary conditions leave a rigid motion "
                    "free (every part traction free or slipping), see Boundary conditions in doc/user-guide.md");
               return false;
@@ -344,7 +330,7 @@ namespace dieflow
             std::ostringstream why;
             why << "the iteration diverges at iteration " << k + 1
                 << ": the velocity exceeds ten thousand times the largest prescribed speed; "
-                << one_of(method_changes(),
+                << one_of_changes(method_changes(),
                               "check that the boundary conditions hold the metal in place (a free part "
                               "facing a prescribed velocity lets it run away)");
             result.failure    = why.str();

@@ -16,6 +16,7 @@
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace dieflow
@@ -203,6 +204,11 @@ namespace dieflow
     /// "" or what the cycling guard did in this cycle.
     std::string
     cycling_note() const;
+
+    /// What the cycling guard did: directions held in contact, and friction
+    /// laws regularised.
+    std::pair<unsigned int, unsigned int>
+    cycle_breaks() const;
 
     /// True where the deck's friction law of die id @p id transmits no
     /// tangential force (mu = 0, or a zero Tresca bound).

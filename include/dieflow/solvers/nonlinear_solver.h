@@ -75,8 +75,9 @@ namespace dieflow
       return "";
     }
 
-    /// Deck changes that may help the contact settle and are not in use
-    /// already ("Contact/Friction law = Tresca", ...), for failure messages.
+    /// Changes that may help the contact settle, deck settings not in use
+    /// already ("refine the mesh at the die", "set Contact/Friction law =
+    /// Tresca", ...), for failure messages.
     virtual std::vector<std::string>
     contact_changes() const
     {
