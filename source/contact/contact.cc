@@ -324,6 +324,10 @@ namespace dieflow
           direction.active = source->active;
           direction.status = source->status;
           direction.sign   = source->sign;
+          // The contact pressure too: Coulomb slip linearises about the
+          // normal force, and with none the first solve on the new mesh
+          // would let every slipping node slide frictionless.
+          direction.normal_force = source->normal_force / source->wall.weight * direction.wall.weight;
         }
     };
 

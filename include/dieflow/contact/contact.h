@@ -137,7 +137,8 @@ namespace dieflow
      * without components constrained in @p prescribed (the prescribed
      * velocities). Every
      * direction starts active and slipping (the frictionless slip-wall
-     * problem), unless @p keep_state maps it from the previous mesh by
+     * problem), unless @p keep_state maps it (and its contact pressure,
+     * about which Coulomb slip linearises) from the previous mesh by
      * position.
      */
     void
