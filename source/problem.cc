@@ -5,6 +5,7 @@
 #include <dieflow/postprocess/atomic_file.h>
 #include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/postprocess/postprocess.h>
+#include <dieflow/postprocess/vertex_stress.h>
 #include <dieflow/problem.h>
 
 #include <deal.II/base/timer.h>
@@ -619,13 +620,21 @@ namespace dieflow
     summary.contact_assemblies = contact_assemblies;
     summary.friction_terms     = friction_terms;
     std::map<std::string, Vector<double>> nodal_fields;
+    // The pressure is recovered once, for the degree-1 die profiles and the
+    // fields.
+    const bool     write_fields_now = run_parameters.write_vtu || run_parameters.write_gnuplot;
+    Vector<double> pressure;
+    if ((!contact.empty() && fe.degree == 1) || write_fields_now)
+      pressure = cell_pressures();
     if (!contact.empty())
       {
         contact_results    = contact.results(velocity);
         const auto &results = contact_results;
         contact.summarise(results, velocity.linfty_norm(), summary);
         add_die_shares(wall_shares, frictionless, summary);
-        contact.write_profiles(results, run_parameters.output_directory);
+        const auto stress = fe.degree == 1 ? vertex_stresses(dof_handler, velocity, material, pressure) :
+                                             std::vector<dealii::SymmetricTensor<2, dim>>();
+        contact.write_profiles(results, fe.degree == 1 ? &stress : nullptr, run_parameters.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
         const double inflow            = -boundary_conditions_inflow(summary.flux);
         for (const BoundaryId id : contact_parameters.die_ids)
@@ -657,11 +666,11 @@ namespace dieflow
         summary.quantities.emplace_back("v_x(probe)", value[0]);
       }
 
-    if (run_parameters.write_vtu || run_parameters.write_gnuplot)
+    if (write_fields_now)
       write_fields(dof_handler,
                    velocity,
                    material,
-                   cell_pressures(),
+                   pressure,
                    nodal_fields,
                    run_parameters.output_directory,
                    summary.cycle,

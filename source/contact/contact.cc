@@ -689,8 +689,10 @@ namespace dieflow
           {
             ContactNodeResult<dim> r;
             r.position       = node.position;
+            r.vertex         = node.vertex;
             r.id             = dir.wall.id;
             r.normal         = dir.wall.normal;
+            r.tangent        = dir.element.tangent;
             r.weight         = dir.wall.weight;
             r.status         = dir.active ? dir.status : ContactStatus::separated;
             r.normal_rate    = dir.element.normal_rate(u);
@@ -811,6 +813,61 @@ namespace dieflow
         }
       return chain;
     }
+
+
+
+    /**
+     * The degree-1 contact pressure recovered along the wall: at each node,
+     * the least-squares line p = a + b s through the raw values (nodal
+     * normal force over boundary weight) of the node and its two
+     * neighbours, weighted by their boundary weights, where all three lie
+     * on one straight stretch of wall (no corner between) in one contact
+     * state (no stick/slip end or separation point between), evaluated at
+     * the node. A pressure linear along the wall is kept exactly, a curved
+     * one within O(h^2); a pattern that repeats every three nodes (as the
+     * corner grading leaves on die2d) is averaged out on equal spacing,
+     * the node-to-node alternation +c, -c damped to a third.
+     */
+    template <int dim>
+    std::vector<double>
+    pressures_along(const std::vector<const ContactNodeResult<dim> *> &chain, const std::vector<double> &s)
+    {
+      const auto joined = [&](const unsigned int i, const unsigned int j) {
+        return chain[i]->status == chain[j]->status && chain[i]->normal * chain[j]->normal > std::cos(5. * M_PI / 180);
+      };
+      // The end of a stretch (a corner, a change of state) is where the raw
+      // value is least accurate (first order at a corner): it keeps its
+      // own value and does not enter its neighbour's fit.
+      const auto end = [&](const unsigned int j) {
+        return j == 0 || j + 1 == chain.size() || !joined(j - 1, j) || !joined(j, j + 1);
+      };
+      std::vector<double> recovered(chain.size());
+      for (unsigned int i = 0; i < chain.size(); ++i)
+        {
+          const auto raw = [&](const unsigned int j) { return -chain[j]->normal_force / chain[j]->weight; };
+          unsigned int first = i, last = i;
+          if (!end(i))
+            {
+              if (!end(i - 1))
+                --first;
+              if (!end(i + 1))
+                ++last;
+            }
+          double w = 0, ws = 0, wss = 0, wp = 0, wsp = 0;
+          for (unsigned int j = first; j <= last; ++j)
+            {
+              const double weight = chain[j]->weight, x = s[j] - s[i];
+              w += weight;
+              ws += weight * x;
+              wss += weight * x * x;
+              wp += weight * raw(j);
+              wsp += weight * x * raw(j);
+            }
+          const double determinant = w * wss - ws * ws;
+          recovered[i] = (last - first >= 2 && determinant > 1e-12 * w * wss) ? (wp * wss - ws * wsp) / determinant : raw(i);
+        }
+      return recovered;
+    }
   } // namespace
 
 
@@ -844,8 +901,9 @@ namespace dieflow
 
   template <int dim>
   void
-  ContactSet<dim>::write_profiles(const std::vector<ContactNodeResult<dim>> &results,
-                                  const std::string &                        directory) const
+  ContactSet<dim>::write_profiles(const std::vector<ContactNodeResult<dim>> &   results,
+                                  const std::vector<dealii::SymmetricTensor<2, dim>> *vertex_stress,
+                                  const std::string &                          directory) const
   {
     for (const auto id : parameters.die_ids)
       {
@@ -855,21 +913,36 @@ namespace dieflow
             points.push_back(&r);
         if (points.empty())
           continue;
-        const auto chain = along_the_wall(points);
+        const auto          chain = along_the_wall(points);
+        std::vector<double> s(chain.size(), 0.);
+        for (unsigned int i = 1; i < chain.size(); ++i)
+          s[i] = s[i - 1] + chain[i]->position.distance(chain[i - 1]->position);
+        const std::vector<double> pressure = pressures_along(chain, s);
         AtomicFile    file(directory + "/die-profile-" + std::to_string(id) + ".dat");
         std::ostream &out = file.stream();
-        out << "# die wall id " << id << ", ordered along the wall; forces per node over its boundary weight\n"
+        out << "# die wall id " << id
+            << ", ordered along the wall. contact_pressure, friction_stress: the nodal forces over their boundary "
+               "weights"
+            << (vertex_stress ? " (raw: they zigzag from node to node with the Q1-P0 pressure). recovered_pressure: a "
+                                "least-squares line through 3 raw values along one stretch of wall in one contact "
+                                "state; recovered_shear: t.sigma n of the stress averaged at the node from the cells "
+                                "around it (doc/contact.md)" :
+                                "; degree 2: the recovered columns repeat them") << "\n"
             << "# s(mm) x(mm) y(mm) contact_pressure(MPa) friction_stress(MPa) normal_velocity(mm/s) "
-               "slip_velocity(mm/s) status(0 separated, 1 stick, 2 slip)\n";
-        double s = 0;
+               "slip_velocity(mm/s) status(0 separated, 1 stick, 2 slip) recovered_pressure(MPa) "
+               "recovered_shear(MPa)\n";
         for (unsigned int i = 0; i < chain.size(); ++i)
           {
-            if (i > 0)
-              s += chain[i]->position.distance(chain[i - 1]->position);
-            const auto &r = *chain[i];
-            out << std::setprecision(8) << s << ' ' << r.position[0] << ' ' << r.position[1] << ' '
-                << -r.normal_force / r.weight << ' ' << r.friction_force / r.weight << ' ' << r.normal_rate
-                << ' ' << r.slip_rate << ' ' << static_cast<int>(r.status) << '\n';
+            const auto & r        = *chain[i];
+            const double friction = r.friction_force / r.weight;
+            const double shear    = (vertex_stress && r.vertex != dealii::numbers::invalid_unsigned_int &&
+                                  r.status != ContactStatus::separated) ?
+                                      r.tangent * ((*vertex_stress)[r.vertex] * r.normal) :
+                                      friction;
+            out << std::setprecision(8) << s[i] << ' ' << r.position[0] << ' ' << r.position[1] << ' '
+                << -r.normal_force / r.weight << ' ' << friction << ' ' << r.normal_rate << ' ' << r.slip_rate << ' '
+                << static_cast<int>(r.status) << ' ' << (vertex_stress ? pressure[i] : -r.normal_force / r.weight)
+                << ' ' << shear << '\n';
           }
         file.commit();
       }

@@ -1,6 +1,7 @@
 #include <dieflow/flow/pressure_projection.h>
 #include <dieflow/postprocess/atomic_file.h>
 #include <dieflow/postprocess/postprocess.h>
+#include <dieflow/postprocess/vertex_stress.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>
@@ -504,28 +505,11 @@ namespace dieflow
     DoFHandler<dim>          scalar_dofs(triangulation);
     scalar_dofs.distribute_dofs(scalar_fe);
 
-    // Each cell's pressure at its vertices, averaged with the cells' areas
-    // as weights.
-    PressureProjection<dim> projection(dof_handler.get_fe());
-    const unsigned int      n_modes = projection.n_modes();
-    Vector<double>          p_mean(triangulation.n_active_cells());
-    std::vector<double>  p_sum(triangulation.n_vertices(), 0.), volume(triangulation.n_vertices(), 0.);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        const double *coefficients = p_cell.begin() + cell->active_cell_index() * n_modes;
-        p_mean[cell->active_cell_index()] = coefficients[0];
-        if (n_modes > 1)
-          projection.reinit(cell);
-        for (const unsigned int v : cell->vertex_indices())
-          {
-            const double p = n_modes > 1 ? projection.value(coefficients, cell->vertex(v)) : coefficients[0];
-            p_sum[cell->vertex_index(v)] += p * cell->measure();
-            volume[cell->vertex_index(v)] += cell->measure();
-          }
-      }
-    for (unsigned int i = 0; i < p_sum.size(); ++i)
-      if (volume[i] > 0)
-        p_sum[i] /= volume[i];
+    const unsigned int n_modes = PressureProjection<dim>::n_modes_for(dof_handler.get_fe());
+    Vector<double>     p_mean(triangulation.n_active_cells());
+    for (unsigned int c = 0; c < p_mean.size(); ++c)
+      p_mean[c] = p_cell[c * n_modes];
+    const std::vector<double> p_sum = vertex_pressures(dof_handler, p_cell);
     const Vector<double> p_nodal = vertex_field_to_q1(scalar_dofs, p_sum);
 
     dealii::DataOut<dim> data_out;

@@ -8,6 +8,7 @@
 #include <dieflow/postprocess/summary.h>
 #include <dieflow/mesh/wall_nodes.h>
 
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
@@ -68,8 +69,12 @@ namespace dieflow
   struct ContactNodeResult
   {
     dealii::Point<dim> position;
+    /// The triangulation's vertex (invalid at a degree-2 edge midpoint).
+    unsigned int       vertex;
     BoundaryId         id;
     Tensor<1, dim>     normal;
+    /// The direction of F_t and v.t.
+    Tensor<1, dim>     tangent;
     double             weight;
     ContactStatus      status;
     /// F_n (<= 0 pressing) and F_t, nodal forces; v.n and v.t.
@@ -184,10 +189,19 @@ namespace dieflow
               const double                               speed_scale,
               CycleSummary &                             summary) const;
 
-    /// One gnuplot-ready profile per die id: arc length, x, y, pressure,
-    /// friction stress, normal and slip velocity, status.
+    /**
+     * One gnuplot-ready profile per die id: arc length, x, y, contact
+     * pressure and friction stress (the nodal forces over their boundary
+     * weights), normal and slip velocity, status, and a recovered pressure
+     * and shear. With @p vertex_stress (degree 1, vertex_stresses()): the
+     * pressure recovered along the wall (pressures_along() in the source),
+     * the shear t.sigma n of the stress at the node; without (degree 2,
+     * whose nodal values do not zigzag): the raw values again.
+     */
     void
-    write_profiles(const std::vector<ContactNodeResult<dim>> &results, const std::string &directory) const;
+    write_profiles(const std::vector<ContactNodeResult<dim>> &                 results,
+                   const std::vector<dealii::SymmetricTensor<2, dim>> *vertex_stress,
+                   const std::string &                          directory) const;
 
     /**
      * Where the die needs a fine mesh: the corners (nodes with more than one
