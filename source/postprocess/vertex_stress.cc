@@ -4,7 +4,6 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 
-
 namespace dieflow
 {
   namespace
@@ -32,31 +31,9 @@ namespace dieflow
           sum[i] /= area[i];
       return sum;
     }
-  } // namespace
 
 
 
-  template <int dim>
-  std::vector<double>
-  vertex_pressures(const DoFHandler<dim> &dof_handler, const Vector<double> &cell_pressure)
-  {
-    PressureProjection<dim> projection(dof_handler.get_fe());
-    const unsigned int      n_modes = projection.n_modes();
-    return area_weighted<dim, double>(dof_handler, [&](const auto &cell) {
-      const double *coefficients = cell_pressure.begin() + cell->active_cell_index() * n_modes;
-      if (n_modes > 1)
-        projection.reinit(cell);
-      std::vector<double> p(cell->n_vertices());
-      for (const unsigned int v : cell->vertex_indices())
-        p[v] = n_modes > 1 ? projection.value(coefficients, cell->vertex(v)) : coefficients[0];
-      return p;
-    });
-  }
-
-
-
-  namespace
-  {
     /// sigma = 2 eta D - p I at the points of @p fe_values (reinit on the
     /// cell), p from the cell's pressure coefficients.
     template <int dim>
@@ -79,6 +56,25 @@ namespace dieflow
       return sigma;
     }
   } // namespace
+
+
+
+  template <int dim>
+  std::vector<double>
+  vertex_pressures(const DoFHandler<dim> &dof_handler, const Vector<double> &cell_pressure)
+  {
+    PressureProjection<dim> projection(dof_handler.get_fe());
+    const unsigned int      n_modes = projection.n_modes();
+    return area_weighted<dim, double>(dof_handler, [&](const auto &cell) {
+      const double *coefficients = cell_pressure.begin() + cell->active_cell_index() * n_modes;
+      if (n_modes > 1)
+        projection.reinit(cell);
+      std::vector<double> p(cell->n_vertices());
+      for (const unsigned int v : cell->vertex_indices())
+        p[v] = n_modes > 1 ? projection.value(coefficients, cell->vertex(v)) : coefficients[0];
+      return p;
+    });
+  }
 
 
 
