@@ -623,8 +623,9 @@ namespace dieflow
     // The pressure is recovered once, for the degree-1 die profiles and the
     // fields.
     const bool     write_fields_now = run_parameters.write_vtu || run_parameters.write_gnuplot;
+    const bool     recover_profiles = !contact.empty() && fe.degree == 1;
     Vector<double> pressure;
-    if ((!contact.empty() && fe.degree == 1) || write_fields_now)
+    if (recover_profiles || write_fields_now)
       pressure = cell_pressures();
     if (!contact.empty())
       {
@@ -632,9 +633,9 @@ namespace dieflow
         const auto &results = contact_results;
         contact.summarise(results, velocity.linfty_norm(), summary);
         add_die_shares(wall_shares, frictionless, summary);
-        const auto stress = fe.degree == 1 ? vertex_stresses(dof_handler, velocity, material, pressure) :
-                                             std::vector<dealii::SymmetricTensor<2, dim>>();
-        contact.write_profiles(results, fe.degree == 1 ? &stress : nullptr, run_parameters.output_directory);
+        const auto stress = recover_profiles ? vertex_stresses(dof_handler, velocity, material, pressure) :
+                                               std::vector<dealii::SymmetricTensor<2, dim>>();
+        contact.write_profiles(results, recover_profiles ? &stress : nullptr, run_parameters.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
         const double inflow            = -boundary_conditions_inflow(summary.flux);
         for (const BoundaryId id : contact_parameters.die_ids)

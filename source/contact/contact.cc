@@ -917,7 +917,7 @@ namespace dieflow
         std::vector<double> s(chain.size(), 0.);
         for (unsigned int i = 1; i < chain.size(); ++i)
           s[i] = s[i - 1] + chain[i]->position.distance(chain[i - 1]->position);
-        const std::vector<double> pressure = pressures_along(chain, s);
+        const std::vector<double> recovered = vertex_stress ? pressures_along(chain, s) : std::vector<double>();
         AtomicFile    file(directory + "/die-profile-" + std::to_string(id) + ".dat");
         std::ostream &out = file.stream();
         out << "# die wall id " << id
@@ -934,15 +934,16 @@ namespace dieflow
         for (unsigned int i = 0; i < chain.size(); ++i)
           {
             const auto & r        = *chain[i];
+            const double pressure = -r.normal_force / r.weight;
             const double friction = r.friction_force / r.weight;
             const double shear    = (vertex_stress && r.vertex != dealii::numbers::invalid_unsigned_int &&
                                   r.status != ContactStatus::separated) ?
                                       r.tangent * ((*vertex_stress)[r.vertex] * r.normal) :
                                       friction;
             out << std::setprecision(8) << s[i] << ' ' << r.position[0] << ' ' << r.position[1] << ' '
-                << -r.normal_force / r.weight << ' ' << friction << ' ' << r.normal_rate << ' ' << r.slip_rate << ' '
-                << static_cast<int>(r.status) << ' ' << (vertex_stress ? pressure[i] : -r.normal_force / r.weight)
-                << ' ' << shear << '\n';
+                << pressure << ' ' << friction << ' ' << r.normal_rate << ' ' << r.slip_rate << ' '
+                << static_cast<int>(r.status) << ' ' << (vertex_stress ? recovered[i] : pressure) << ' ' << shear
+                << '\n';
           }
         file.commit();
       }
