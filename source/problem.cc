@@ -882,7 +882,7 @@ namespace dieflow
     std::ostringstream broken;
     for (const auto &[name, value, bound, applies] : checks)
       if (applies && !(value <= bound))
-        broken << (broken.tellp() > 0 ? ", " : "") << name << ' ' << std::setprecision(2) << value << " (above "
+        broken << (broken.tellp() > 0 ? ", " : "") << name << ' ' << std::setprecision(1) << value << " (above "
                << bound << ")";
     if (broken.tellp() == 0)
       return;

