@@ -8,8 +8,11 @@ which the degree-2 sequence here confirms by extrapolation; P1: 82.66 +-
 0.10). Prints one table per sequence (dofs, cumulative time, value, error,
 the estimated error the program prints, Newton iterations), and the dofs and
 time each sequence needs for 1 %, 0.1 %, 0.05 % and 0.01 %. The last N1/P1
-sequence weights Kelly up at the die (Refinement/Indicator = combined): the
-error the Kelly sequences leave is at the die wall.
+sequences weight Kelly up at the die (Refinement/Indicator = combined): the
+error the Kelly sequences leave is at the die wall; or aim at the ram force
+(Indicator = dual weighted, goal-oriented). The last two start from the
+ungraded mesh (Corner refinements = 0): does the indicator make up for the
+grading?
 
     python3 benchmarks/die2d_degree.py [--case N1|P1] [--quick]
 
@@ -69,6 +72,14 @@ def main():
         ("degree 2, 8 across, 8 corner levels, combined indicator (Kelly x (1 + 3 x die criterion)), fraction 0.5",
          dict(degree=2, across=8, corner_levels=8, marking="fixed fraction", fraction=0.5, cycles=10 + extra,
               indicator="combined", die_weight=3)),
+        ("degree 2, 8 across, 8 corner levels, dual-weighted indicator (Kelly of v x Kelly of the ram force's dual), fixed number 0.15",
+         dict(degree=2, across=8, corner_levels=8, marking="fixed number", fraction=0.15, cycles=7 + extra,
+              indicator="dual weighted")),
+        ("degree 2, 8 across, no grading (any start), Kelly fraction 0.5",
+         dict(degree=2, across=8, corner_levels=0, marking="fixed fraction", fraction=0.5, cycles=12 + extra)),
+        ("degree 2, 8 across, no grading (any start), dual-weighted indicator, fixed number 0.15",
+         dict(degree=2, across=8, corner_levels=0, marking="fixed number", fraction=0.15, cycles=9 + extra,
+              indicator="dual weighted")),
     ]
     summary = []
     for title, settings in sequences:

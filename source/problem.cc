@@ -7,6 +7,7 @@
 #include <dieflow/postprocess/postprocess.h>
 #include <dieflow/postprocess/vertex_stress.h>
 #include <dieflow/problem.h>
+#include <dieflow/postprocess/goal_estimate.h>
 
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -205,6 +206,17 @@ namespace dieflow
         require(names.count(refinement.target_quantity) == 1,
                 "Refinement/Target quantity",
                 "'" + refinement.target_quantity + "' is not a quantity of this deck (it has " + known + ")");
+      }
+    if (refinement.indicator == "dual weighted" || refinement.dual_weighted_estimate)
+      {
+        require(!contact.uses_penalty(),
+                "Refinement/Indicator",
+                "'dual weighted' needs Contact/Normal enforcement = active set (its dual freezes the "
+                "contact constraints; the penalty contact is not covered)");
+        require(linear_solver.method == "direct",
+                "Refinement/Indicator",
+                "'dual weighted' needs Linear solver/Method = direct (the augmented Lagrangian of the "
+                "iterative method is not covered)");
       }
     require(!boundary_conditions.velocity_ids.empty(),
             "Boundary conditions/Prescribed velocity ids",
@@ -609,6 +621,36 @@ namespace dieflow
     summary.penalty          = assembler.get_penalty();
     summary.mean_viscosity   = mean_viscosity;
     summary.error_estimate = kelly_estimate(dof_handler, velocity);
+    if (refinement.indicator == "dual weighted")
+      {
+        // The dual in the solution's own space: one more solve with the
+        // last Newton step's factorisation (transposed), or with a new one
+        // when the cycle needed no linear solve.
+        if (!linear_solver.has_factorisation())
+          {
+            assemble(assembler, velocity, Linearization::newton, &system_matrix, system_rhs);
+            linear_solver.factorize(system_matrix, matrix_symmetric);
+          }
+        const Vector<double> dual =
+          force_dual(dof_handler, hanging_node_constraints, update_constraints, sparsity_pattern, velocity, assembler,
+                     contact, force_direction(dof_handler, hanging_node_constraints, goal_part()),
+                     [this](Vector<double> &b) {
+                       Vector<double> x;
+                       linear_solver.solve(b, x, true);
+                       b = x;
+                     });
+        goal_indicators = dieflow::goal_indicators(dof_handler, velocity, dual);
+      }
+    if (refinement.dual_weighted_estimate)
+      {
+        const auto goal = dual_weighted_force_error(dof_handler, hanging_node_constraints, velocity, assembler, material,
+                                                    contact, boundary_conditions, contact_parameters.die_ids,
+                                                    goal_part());
+        summary.dual_weighted_error = goal.error;
+        log << "  dual-weighted estimate: F_x[" << goal_part() << "] exact - computed = " << std::setprecision(3)
+            << goal.error << " (velocity part " << goal.velocity_part << ", pressure part " << goal.pressure_part
+            << "; dual problem " << goal.dual_dofs << " dofs)" << std::endl;
+      }
     summary.die_cell_share = share_of_cells_at(triangulation, contact_parameters.die_ids);
     if (exact_velocity)
       {
@@ -690,6 +732,22 @@ namespace dieflow
 
 
   template <int dim>
+  BoundaryId
+  DieFlowProblem<dim>::goal_part() const
+  {
+    const std::string &q = refinement.target_quantity;
+    if (q.rfind("F_x[", 0) == 0 && q.back() == ']')
+      {
+        const auto id = static_cast<BoundaryId>(dealii::Utilities::string_to_int(q.substr(4, q.size() - 5)));
+        if (boundary_conditions.velocity_ids.count(id))
+          return id;
+      }
+    return *boundary_conditions.velocity_ids.begin();
+  }
+
+
+
+  template <int dim>
   std::set<BoundaryId>
   DieFlowProblem<dim>::frictionless_walls() const
   {
@@ -747,7 +805,10 @@ namespace dieflow
         DieFeatures<dim> die;
         die.ids        = contact_parameters.die_ids;
         die.hot_points = contact.hot_points(contact_results);
-        mark_cells(refinement, refinement_indicators(refinement, dof_handler, velocity, die), triangulation);
+        mark_cells(refinement,
+                   refinement.indicator == "dual weighted" ? goal_indicators :
+                                                             refinement_indicators(refinement, dof_handler, velocity, die),
+                   triangulation);
       }
     // The cell stress q + lambda div v (q = 0 without the augmented
     // Lagrangian) goes along as a piecewise constant: the next mesh's first

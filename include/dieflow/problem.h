@@ -178,6 +178,13 @@ namespace dieflow
              const Linearization       linearization,
              dealii::SparseMatrix<double> *matrix,
              Vector<double> &          minus_residual);
+    /**
+     * The prescribed-velocity part whose force F_x the dual-weighted
+     * indicator aims at: the Target quantity's, if it is such a force, else
+     * the first part.
+     */
+    BoundaryId
+    goal_part() const;
     /// Symmetry lines, slip walls and the dies without friction.
     std::set<BoundaryId>
     frictionless_walls() const;
@@ -255,6 +262,8 @@ namespace dieflow
     std::optional<dealii::Point<dim>>           probe;
     /// The contact results of the last cycle, for the die criterion.
     std::vector<ContactNodeResult<dim>>         contact_results;
+    /// The dual-weighted indicator of the last cycle (Indicator = dual weighted).
+    dealii::Vector<float>                       goal_indicators;
   };
 } // namespace dieflow
 

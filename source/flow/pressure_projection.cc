@@ -56,10 +56,7 @@ namespace dieflow
     std::vector<double> psi(modes);
     for (const unsigned int q : fe_values.quadrature_point_indices())
       {
-        const auto &x = fe_values.quadrature_point(q);
-        psi[0]        = 1;
-        for (unsigned int m = 1; m < modes; ++m)
-          psi[m] = (x[m - 1] - centroid[m - 1]) / h;
+        basis(fe_values.quadrature_point(q), psi.data());
         const double JxW = fe_values.JxW(q);
         for (unsigned int m = 0; m < modes; ++m)
           {
@@ -107,10 +104,28 @@ namespace dieflow
   double
   PressureProjection<dim>::value(const double *coefficients, const dealii::Point<dim> &x) const
   {
-    double result = coefficients[0];
-    for (unsigned int m = 1; m < modes; ++m)
-      result += coefficients[m] * (x[m - 1] - centroid[m - 1]) / h;
+    double psi[max_modes];
+    basis(x, psi);
+    double result = 0;
+    for (unsigned int m = 0; m < modes; ++m)
+      result += coefficients[m] * psi[m];
     return result;
+  }
+
+
+
+  template <int dim>
+  void
+  PressureProjection<dim>::basis(const dealii::Point<dim> &x, double *psi) const
+  {
+    // 1, then xi_d = (x_d - x_K,d)/h_K, then the products xi_d xi_e (d <= e).
+    psi[0] = 1;
+    unsigned int m = 1;
+    for (unsigned int d = 0; d < dim && m < modes; ++d, ++m)
+      psi[m] = (x[d] - centroid[d]) / h;
+    for (unsigned int d = 0; d < dim && m < modes; ++d)
+      for (unsigned int e = d; e < dim && m < modes; ++e, ++m)
+        psi[m] = psi[1 + d] * psi[1 + e];
   }
 
 

@@ -29,12 +29,20 @@ namespace dieflow
                       "(and coarsen) the cells the indicator marks.");
     prm.declare_entry("Indicator",
                       "combined",
-                      Selection("kelly|die|combined"),
+                      Selection("kelly|die|combined|dual weighted"),
                       "kelly: deal.II's Kelly estimator of the velocity. die: cells "
                       "at the die (touching the contact ids or within the die band), "
                       "twice as strongly at its corners and where stick turns to "
                       "slip or contact opens, largest first. combined: Kelly "
-                      "weighted up at the die by (1 + die weight x die criterion).");
+                      "weighted up at the die by (1 + die weight x die criterion). "
+                      "dual weighted: goal-oriented, aimed at the force F_x of the "
+                      "Target quantity's part (else of the first prescribed-velocity "
+                      "part): Kelly's indicator of the velocity times Kelly's "
+                      "indicator of the dual solution of that force (the adjoint "
+                      "problem with the contact states frozen, solved with velocity "
+                      "degree + 1); the log and summary.json also give the dual-"
+                      "weighted estimate of the force's error. Use it with Marking = "
+                      "fixed number: the product is concentrated in few cells.");
     prm.declare_entry("Marking",
                       "fixed fraction",
                       Selection("fixed fraction|fixed number"),
@@ -80,6 +88,17 @@ namespace dieflow
                       "F_x[id] (the force along x on a prescribed-velocity part; "
                       "F_x[1] is die2d's ram force), F_n[id] or F_t[id] (the "
                       "normal or friction force on a die id), or v_x(probe).");
+    prm.declare_entry("Dual-weighted estimate",
+                      "false",
+                      Bool(),
+                      "Also estimate the error of the force F_x of the Target "
+                      "quantity's part (else of the first prescribed-velocity part) "
+                      "by the dual-weighted residual (deal.II step-14): the adjoint "
+                      "problem with the contact states frozen, solved with velocity "
+                      "degree + 1 on the same mesh. The log and summary.json "
+                      "(dual_weighted_error) give it; the +- of the results stays "
+                      "the estimate from the cycles, which doc/benchmarks.md found "
+                      "the more honest on die2d. Costs about three Newton iterations.");
     prm.leave_subsection();
   }
 
@@ -100,6 +119,7 @@ namespace dieflow
     maximum_cells    = prm.get_integer("Maximum cells");
     target_error     = prm.get_double("Target error");
     target_quantity  = dealii::Utilities::trim(prm.get("Target quantity"));
+    dual_weighted_estimate = prm.get_bool("Dual-weighted estimate");
     require(target_error == 0 || cycles >= 3,
             "Refinement/Cycles",
             "must be at least 3 with a Target error (the estimate needs three cycles); it is the most "

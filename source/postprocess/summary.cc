@@ -208,6 +208,7 @@ namespace dieflow
               << number(s.estimated_errors[q].second);
         out << "},\n"
             << "      \"error_estimate\": " << number(s.error_estimate)
+            << ", \"dual_weighted_error\": " << optional_number(s.dual_weighted_error)
             << ", \"die_cell_share\": " << number(s.die_cell_share)
             << ", \"start_distance\": " << number(s.start_distance) << ",\n"
             << "      \"velocity_l2_error\": " << optional_number(s.velocity_l2_error)

@@ -276,7 +276,7 @@ namespace dieflow
 
 
   void
-  LinearSolver::solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution)
+  LinearSolver::solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution, const bool transpose)
   {
     auto &s = *suitesparse;
     solution.reinit(rhs.size());
@@ -299,9 +299,19 @@ namespace dieflow
         return;
       }
     double info[UMFPACK_INFO];
-    if (umfpack_dl_solve(UMFPACK_A, s.Ap.data(), s.Ai.data(), s.Ax.data(), solution.begin(), rhs.begin(),
+    // The stored arrays are J in compressed columns: UMFPACK_At solves J^T x = b.
+    if (umfpack_dl_solve(transpose ? UMFPACK_At : UMFPACK_A, s.Ap.data(), s.Ai.data(), s.Ax.data(), solution.begin(), rhs.begin(),
                          s.numeric, s.control, info) < 0)
       throw SolverFailure("UMFPACK could not solve with its factorisation");
+  }
+
+
+
+  bool
+  LinearSolver::has_factorisation() const
+  {
+    const auto &s = *suitesparse;
+    return s.pattern_known && (s.last_was_cholesky ? s.factor != nullptr : s.numeric != nullptr);
   }
 
 

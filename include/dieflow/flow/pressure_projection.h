@@ -42,7 +42,9 @@ namespace dieflow
       : PressureProjection(other.fe_values.get_fe())
     {}
 
-    /// Coefficients per cell: 1 (degree 1) or dim + 1 (degree 2).
+    /// Coefficients per cell: 1 (degree 1), dim + 1 (degree 2), or the
+    /// (dim + 1)(dim + 2)/2 of P2 (degree 3: Q3-P2disc, the richer space
+    /// in which the goal-oriented estimate solves its dual problem).
     unsigned int
     n_modes() const
     {
@@ -53,7 +55,7 @@ namespace dieflow
     static unsigned int
     n_modes_for(const dealii::FiniteElement<dim> &fe)
     {
-      return fe.degree == 1 ? 1 : dim + 1;
+      return fe.degree == 1 ? 1 : fe.degree == 2 ? dim + 1 : (dim + 1) * (dim + 2) / 2;
     }
 
     /// B_K, M_K^-1, the centroid and h_K of @p cell.
@@ -98,6 +100,11 @@ namespace dieflow
     project_all(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity);
 
   private:
+    static constexpr unsigned int max_modes = (dim + 1) * (dim + 2) / 2;
+    /// The basis functions at @p x (n_modes() values).
+    void
+    basis(const dealii::Point<dim> &x, double *psi) const;
+
     unsigned int               modes;
     dealii::FEValues<dim>      fe_values;
     dealii::FullMatrix<double> B;

@@ -30,6 +30,8 @@ namespace dieflow
     /// the quantity of interest it applies to.
     double       target_error    = 0;
     std::string  target_quantity = "F_x[1]";
+    /// Print and record the dual-weighted estimate of the force's error.
+    bool         dual_weighted_estimate = false;
 
     static void
     declare_parameters(ParameterHandler &prm);

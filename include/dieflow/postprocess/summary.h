@@ -121,6 +121,9 @@ namespace dieflow
     /// The estimated error of each quantity of interest from the cycles up
     /// to this one (empty on the first).
     std::vector<std::pair<std::string, double>> estimated_errors;
+    /// With Indicator = dual weighted: the goal-oriented estimate of the
+    /// exact minus the computed force of that part (goal_estimate.h).
+    std::optional<double> dual_weighted_error;
     /// Share of the cells with a face on a contact id.
     double die_cell_share = 0;
     /// The penalty lambda and the mean viscosity it was made from.

@@ -59,9 +59,13 @@ namespace dieflow
     void
     factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric);
 
-    /// Solves with the last factorisation.
+    /// Solves with the last factorisation (@p transpose: with J^T, for adjoints).
     void
-    solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution);
+    solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution, const bool transpose = false);
+
+    /// Whether a factorisation of this mesh's matrix is at hand (none after reset()).
+    bool
+    has_factorisation() const;
 
     /// Which solver the last factorisation used ("CHOLMOD" or "UMFPACK").
     std::string
