@@ -12,7 +12,7 @@ the contact states are fixed) for degrees 1 and 2, and N1 (Coulomb friction)
 for degree 2, each Kelly-adaptive from the default deck's graded start
 (fraction 0.5). The frictionless reference is the Richardson extrapolation
 of the degree-2 frictionless sequence itself (printed); N1's is the
-converged 2468.6 N/mm of doc/benchmarks.md.
+converged 2468.78 N/mm of benchmarks/die2d_runs.py.
 
     python3 benchmarks/die2d_estimates.py [--quick]
 

@@ -8,7 +8,8 @@ cumulative wall time for
   - Kelly-adaptive cycles from the old built-in start, from the bisected
     start, and from the graded start of the default deck,
 for die2d N1 (and P1 with --case P1). Errors are against the converged ram
-force (N1: 2468.6 +- 0.6 N/mm, the 2.6M-dof degree-1 run of
+force (N1: 2468.78 +- 0.05 N/mm since 2026-11-24, before 2468.6 +- 0.6,
+see benchmarks/die2d_runs.py; the 2.6M-dof degree-1 run of
 doc/benchmarks.md; P1: 82.66 +- 0.10). Prints one table per sequence, the
 estimated error the program prints (the +- of the screen summary), and the
 dofs and time each sequence needs for 1 %, 0.2 % and 0.1 %.

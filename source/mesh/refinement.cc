@@ -38,11 +38,12 @@ namespace dieflow
                       "dual weighted: goal-oriented, aimed at the force F_x of the "
                       "Target quantity's part (else of the first prescribed-velocity "
                       "part): Kelly's indicator of the velocity times Kelly's "
-                      "indicator of the dual solution of that force (the adjoint "
-                      "problem with the contact states frozen, solved with velocity "
-                      "degree + 1); the log and summary.json also give the dual-"
-                      "weighted estimate of the force's error. Use it with Marking = "
-                      "fixed number: the product is concentrated in few cells.");
+                      "indicator of the dual solution of that force (the adjoint of "
+                      "the converged linearised problem with the contact states "
+                      "frozen: one more solve with the last factorisation; see also "
+                      "Dual-weighted estimate). Use it with Marking = "
+                      "fixed fraction and Refine fraction = 0.9, or fixed number and "
+                      "0.15: the product is concentrated in few cells.");
     prm.declare_entry("Marking",
                       "fixed fraction",
                       Selection("fixed fraction|fixed number"),
