@@ -168,6 +168,10 @@ namespace dieflow
     refine_mesh();
     double
     relative_residual(const Vector<double> &minus_residual) const;
+    /// eps || |J| |v| || over the free rows, relative to the reactions: the
+    /// round-off floor of the relative residual at the last assembly.
+    double
+    roundoff_bound(const Vector<double> &v) const;
     /// Constraints of the state: boundary conditions and active contact.
     void
     make_constraints();
@@ -255,6 +259,8 @@ namespace dieflow
     double             mean_viscosity = 0;
     unsigned int       start_solves   = 0;
     double             prescribed_speed = 0;
+    /// roundoff_bound() of the last assembled Jacobian.
+    double             last_roundoff_bound = 0;
 
     std::vector<std::pair<double, std::string>> pvd_records;
     StudyTable                                  study;

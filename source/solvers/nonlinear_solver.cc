@@ -38,7 +38,9 @@ namespace dieflow
                       "out-of-balance force of the free dofs relative to the "
                       "forces the boundaries exert. Never below the round-off "
                       "floor that the penalty leaves, about 6e-17 x penalty "
-                      "factor x sqrt(dofs).");
+                      "factor x sqrt(dofs), or eps || |J| |v| || (relative, the "
+                      "bound of the computed residual) where that is larger, as "
+                      "for strongly shear-thinning laws.");
     prm.declare_entry("Update tolerance",
                       "1e-8",
                       Double(0),
