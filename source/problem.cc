@@ -659,26 +659,6 @@ namespace dieflow
     summary.penalty          = assembler.get_penalty();
     summary.mean_viscosity   = mean_viscosity;
     summary.error_estimate = kelly_estimate(dof_handler, velocity);
-    if (refinement.indicator == "dual weighted")
-      {
-        // The dual in the solution's own space: one more solve with the
-        // last Newton step's factorisation (transposed), or with a new one
-        // when the cycle needed no linear solve.
-        if (!linear_solver.has_factorisation())
-          {
-            assemble(assembler, velocity, Linearization::newton, &system_matrix, system_rhs);
-            linear_solver.factorize(system_matrix, matrix_symmetric);
-          }
-        const Vector<double> dual =
-          force_dual(dof_handler, hanging_node_constraints, update_constraints, sparsity_pattern, velocity, assembler,
-                     contact, force_direction(dof_handler, hanging_node_constraints, goal_part()),
-                     [this](Vector<double> &b) {
-                       Vector<double> x;
-                       linear_solver.solve(b, x, true);
-                       b = x;
-                     });
-        goal_indicators = dieflow::goal_indicators(dof_handler, velocity, dual);
-      }
     if (refinement.dual_weighted_estimate)
       {
         const auto goal = dual_weighted_force_error(dof_handler, hanging_node_constraints, velocity, assembler, material,
@@ -770,6 +750,28 @@ namespace dieflow
 
 
   template <int dim>
+  Vector<double>
+  DieFlowProblem<dim>::ram_force_dual()
+  {
+    // One more solve with the last Newton step's factorisation (transposed),
+    // or with a new one when the cycle needed no linear solve.
+    if (!linear_solver.has_factorisation())
+      {
+        assemble(assembler, velocity, Linearization::newton, &system_matrix, system_rhs);
+        linear_solver.factorize(system_matrix, matrix_symmetric);
+      }
+    return force_dual(dof_handler, hanging_node_constraints, update_constraints, sparsity_pattern, velocity, assembler,
+                      contact, force_direction(dof_handler, hanging_node_constraints, goal_part()),
+                      [this](Vector<double> &b) {
+                        Vector<double> x;
+                        linear_solver.solve(b, x, true);
+                        b = x;
+                      });
+  }
+
+
+
+  template <int dim>
   BoundaryId
   DieFlowProblem<dim>::goal_part() const
   {
@@ -844,8 +846,9 @@ namespace dieflow
         die.ids        = contact_parameters.die_ids;
         die.hot_points = contact.hot_points(contact_results);
         mark_cells(refinement,
-                   refinement.indicator == "dual weighted" ? goal_indicators :
-                                                             refinement_indicators(refinement, dof_handler, velocity, die),
+                   refinement.indicator == "dual weighted" ?
+                     goal_indicators(dof_handler, velocity, ram_force_dual()) :
+                     refinement_indicators(refinement, dof_handler, velocity, die),
                    triangulation);
       }
     // The cell stress q + lambda div v (q = 0 without the augmented

@@ -189,6 +189,11 @@ namespace dieflow
      */
     BoundaryId
     goal_part() const;
+    /// The dual solution of goal_part()'s force in the solution's own
+    /// space (force_dual(), goal_estimate.h), for the dual-weighted
+    /// indicator; computed only when a refinement follows.
+    Vector<double>
+    ram_force_dual();
     /// Symmetry lines, slip walls and the dies without friction.
     std::set<BoundaryId>
     frictionless_walls() const;
@@ -268,8 +273,6 @@ namespace dieflow
     std::optional<dealii::Point<dim>>           probe;
     /// The contact results of the last cycle, for the die criterion.
     std::vector<ContactNodeResult<dim>>         contact_results;
-    /// The dual-weighted indicator of the last cycle (Indicator = dual weighted).
-    dealii::Vector<float>                       goal_indicators;
   };
 } // namespace dieflow
 

@@ -134,12 +134,21 @@ namespace dieflow
 
 
   template <int dim>
+  dealii::Vector<float>
+  kelly_indicators(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &field)
+  {
+    dealii::Vector<float> eta(dof_handler.get_triangulation().n_active_cells());
+    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1), {}, field, eta);
+    return eta;
+  }
+
+
+
+  template <int dim>
   double
   kelly_estimate(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity)
   {
-    dealii::Vector<float> eta(dof_handler.get_triangulation().n_active_cells());
-    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1), {}, velocity, eta);
-    return eta.l2_norm();
+    return kelly_indicators(dof_handler, velocity).l2_norm();
   }
 
 
@@ -204,7 +213,7 @@ namespace dieflow
           indicator[cell->active_cell_index()] = chi[cell->active_cell_index()] * cell->measure();
         return indicator;
       }
-    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1), {}, velocity, indicator);
+    indicator = kelly_indicators(dof_handler, velocity);
     if (parameters.indicator == "combined")
       for (unsigned int i = 0; i < indicator.size(); ++i)
         indicator[i] *= 1 + parameters.die_weight * chi[i];
@@ -256,6 +265,8 @@ namespace dieflow
   template dealii::Vector<float>
   refinement_indicators<2>(const RefinementParameters &, const dealii::DoFHandler<2> &,
                            const dealii::Vector<double> &, const DieFeatures<2> &);
+  template dealii::Vector<float>
+  kelly_indicators<2>(const dealii::DoFHandler<2> &, const dealii::Vector<double> &);
   template double
   kelly_estimate<2>(const dealii::DoFHandler<2> &, const dealii::Vector<double> &);
   template void

@@ -1,4 +1,5 @@
 #include <dieflow/flow/pressure_projection.h>
+#include <dieflow/mesh/refinement.h>
 #include <dieflow/mesh/wall_nodes.h>
 #include <dieflow/postprocess/goal_estimate.h>
 
@@ -14,32 +15,11 @@
 #include <deal.II/lac/sparsity_pattern.h>
 
 #include <functional>
-#include <deal.II/numerics/error_estimator.h>
 
 namespace dieflow
 {
   namespace
   {
-    /// psi: 1 at the x-components of the part's nodes (hanging ones excepted).
-    template <int dim>
-    Vector<double>
-    part_force_direction(const DoFHandler<dim> &dof_handler, const AffineConstraints<double> &hanging, const BoundaryId id)
-    {
-      Vector<double>                               psi(dof_handler.n_dofs());
-      const auto &                                 fe = dof_handler.get_fe();
-      std::vector<dealii::types::global_dof_index> face_dofs(fe.n_dofs_per_face());
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
-            {
-              cell->face(f)->get_dof_indices(face_dofs);
-              for (unsigned int i = 0; i < face_dofs.size(); ++i)
-                if (fe.face_system_to_component_index(i).first == 0 && !hanging.is_constrained(face_dofs[i]))
-                  psi[face_dofs[i]] = 1;
-            }
-      return psi;
-    }
-
     /// z <- T^T z at the slipping nodes (the test functions of their rows).
     template <int dim>
     void
@@ -146,7 +126,18 @@ namespace dieflow
   Vector<double>
   force_direction(const DoFHandler<dim> &dof_handler, const AffineConstraints<double> &hanging_node_constraints, const BoundaryId part_id)
   {
-    Vector<double> psi = part_force_direction(dof_handler, hanging_node_constraints, part_id);
+    Vector<double>                               psi(dof_handler.n_dofs());
+    const auto &                                 fe = dof_handler.get_fe();
+    std::vector<dealii::types::global_dof_index> face_dofs(fe.n_dofs_per_face());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == part_id)
+          {
+            cell->face(f)->get_dof_indices(face_dofs);
+            for (unsigned int i = 0; i < face_dofs.size(); ++i)
+              if (fe.face_system_to_component_index(i).first == 0 && !hanging_node_constraints.is_constrained(face_dofs[i]))
+                psi[face_dofs[i]] = 1;
+          }
     hanging_node_constraints.distribute(psi);
     return psi;
   }
@@ -157,12 +148,9 @@ namespace dieflow
   dealii::Vector<float>
   goal_indicators(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity, const Vector<double> &dual)
   {
-    const auto &          fe = dof_handler.get_fe();
-    dealii::Vector<float> primal(dof_handler.get_triangulation().n_active_cells()), weight(primal.size());
-    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(fe.degree + 1), {}, velocity, primal);
-    dealii::KellyErrorEstimator<dim>::estimate(dof_handler, dealii::QGauss<dim - 1>(fe.degree + 1), {}, dual, weight);
-    primal.scale(weight);
-    return primal;
+    dealii::Vector<float> indicators = kelly_indicators(dof_handler, velocity);
+    indicators.scale(kelly_indicators(dof_handler, dual));
+    return indicators;
   }
 
 
@@ -217,11 +205,8 @@ namespace dieflow
     // psi is the solution space's lifting (its hanging nodes distributed),
     // so that z - I_h z vanishes wherever the solution's values are held.
     Vector<double> psi(dual_dofs.n_dofs());
-    {
-      Vector<double> primal_psi = part_force_direction(dof_handler, hanging_node_constraints, part_id);
-      hanging_node_constraints.distribute(primal_psi);
-      dealii::FETools::interpolate(dof_handler, primal_psi, dual_dofs, dual_hanging, psi);
-    }
+    dealii::FETools::interpolate(dof_handler, force_direction(dof_handler, hanging_node_constraints, part_id), dual_dofs,
+                                 dual_hanging, psi);
     dealii::SparseMatrix<double> jacobian(pattern);
     Vector<double>               minus_residual, raw_residual;
     assemble_with_contact(assembler, dual_contact, dual_dofs, v, constraints, Linearization::newton, &jacobian,

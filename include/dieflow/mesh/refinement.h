@@ -70,6 +70,11 @@ namespace dieflow
                         const dealii::Vector<double> &  velocity,
                         const DieFeatures<dim> &        die);
 
+  /// Kelly's indicator eta_K of @p field on every active cell.
+  template <int dim>
+  dealii::Vector<float>
+  kelly_indicators(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &field);
+
   /// Kelly's global estimate, sqrt(sum_K eta_K^2).
   template <int dim>
   double
