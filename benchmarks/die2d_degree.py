@@ -21,7 +21,7 @@ Not a test: the times are this machine's (run one benchmark at a time).
 """
 import argparse
 
-from die2d_runs import CONVERGED, MATERIAL, reached, run as run_deck, table
+from die2d_runs import CONVERGED, MATERIAL, reach_table, reached, run as run_deck, table
 
 LEVELS = (0.01, 0.001, 0.0005, 0.0001)
 
@@ -90,11 +90,7 @@ def main():
             print(f"\nextrapolated from the last three cycles: {extrapolated['value']:.3f} "
                   f"+- {extrapolated['error']:.3f} (order {extrapolated['order']:.2f} in N)")
         summary.append((title, [reached(rows, converged, level) for level in LEVELS]))
-    print(f"\n### {args.case}: dofs / cumulative wall time to reach the error\n")
-    print("| sequence | " + " | ".join(f"{100 * level:g} %" for level in LEVELS) + " |")
-    print("|---|" + "---|" * len(LEVELS))
-    for title, cells in summary:
-        print(f"| {title} | " + " | ".join(cells) + " |")
+    reach_table(args.case, summary, LEVELS)
 
 
 if __name__ == "__main__":

@@ -19,12 +19,8 @@ converged 2468.78 N/mm of benchmarks/die2d_runs.py.
 Not a test: run one benchmark at a time (about 2 minutes).
 """
 import argparse
-import json
-import os
-import subprocess
-import tempfile
 
-from die2d_runs import CONVERGED, MATERIAL, PROGRAM
+from die2d_runs import CONVERGED, MATERIAL, run_summary
 
 
 def deck(output, degree, cycles, friction):
@@ -52,13 +48,7 @@ end
 
 
 def run(**settings):
-    with tempfile.TemporaryDirectory() as work:
-        path = os.path.join(work, "deck.prm")
-        with open(path, "w") as f:
-            f.write(deck(os.path.join(work, "out"), **settings))
-        subprocess.run([PROGRAM, path], stdout=subprocess.DEVNULL, check=True)
-        with open(os.path.join(work, "out", "summary.json")) as f:
-            summary = json.load(f)
+    summary = run_summary(deck, settings)
     rows = [dict(dofs=c["dofs"], value=c["quantities"]["F_x[1]"], time=c["wall_time"],
                  richardson=c["estimated_errors"].get("F_x[1]"), dwr=c["dual_weighted_error"])
             for c in summary["cycles"] if c["converged"]]

@@ -15,7 +15,7 @@ import shutil
 import subprocess
 import tempfile
 
-from die2d_runs import CONVERGED, ROOT, reached, run as run_deck, table
+from die2d_runs import CONVERGED, ROOT, reach_table, reached, run as run_deck, table
 
 LEVELS = (0.01, 0.001, 0.0005, 0.0001)
 GEO = os.path.join(ROOT, "benchmarks", "die2d-graded.geo")
@@ -53,11 +53,7 @@ def main():
             rows, _ = run_deck(lambda **kw: deck(mesh=mesh, **kw), settings)
             table(f"N1, {title}", rows, converged, digits=3)
             summary.append((title, [reached(rows, converged, level) for level in LEVELS]))
-    print("\n### N1 from the Gmsh start: dofs / cumulative wall time to reach the error\n")
-    print("| sequence | " + " | ".join(f"{100 * level:g} %" for level in LEVELS) + " |")
-    print("|---|" + "---|" * len(LEVELS))
-    for title, cells in summary:
-        print(f"| {title} | " + " | ".join(cells) + " |")
+    reach_table("N1 from the Gmsh start", summary, LEVELS)
 
 
 if __name__ == "__main__":

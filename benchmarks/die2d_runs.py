@@ -16,19 +16,25 @@ MATERIAL = {
 }
 
 
-def run(make_deck, settings):
-    """Runs make_deck(output=..., **settings); returns the converged cycles
-    (dofs, cumulative time, Newton its, F_x[1], its estimate) and the
-    summary's extrapolation of F_x[1] (or None)."""
+def run_summary(make_deck, settings, timeout=None):
+    """Runs make_deck(output=..., **settings) in a scratch folder; returns its
+    summary.json (also when the run did not converge: exit status 2)."""
     with tempfile.TemporaryDirectory() as work:
         path = os.path.join(work, "deck.prm")
         with open(path, "w") as f:
             f.write(make_deck(output=os.path.join(work, "out"), **settings))
-        status = subprocess.run([PROGRAM, path], stdout=subprocess.DEVNULL).returncode
+        status = subprocess.run([PROGRAM, path], stdout=subprocess.DEVNULL, timeout=timeout).returncode
         if status not in (0, 2):
             raise SystemExit(f"dieflow failed on {settings} (exit status {status})")
         with open(os.path.join(work, "out", "summary.json")) as f:
-            summary = json.load(f)
+            return json.load(f)
+
+
+def run(make_deck, settings):
+    """Runs make_deck(output=..., **settings); returns the converged cycles
+    (dofs, cumulative time, Newton its, F_x[1], its estimate) and the
+    summary's extrapolation of F_x[1] (or None)."""
+    summary = run_summary(make_deck, settings)
     rows, elapsed = [], 0.0
     for c in summary["cycles"]:
         if not c["converged"]:
@@ -49,6 +55,16 @@ def table(title, rows, converged, digits=2):
         estimate = "-" if r["estimate"] is None else f"{100 * r['estimate'] / abs(r['value']):.3f}%"
         print(f"| {r['dofs']} | {r['time']:.2f} | {r['value']:.{digits}f} | "
               f"{100 * (r['value'] / converged - 1):+.{digits + 1}f}% | {estimate} | {r['its']} |")
+
+
+def reach_table(title, summary, levels):
+    """The table of dofs / cumulative wall time each sequence needs to reach
+    each error level: summary holds (sequence title, cells per level)."""
+    print(f"\n### {title}: dofs / cumulative wall time to reach the error\n")
+    print("| sequence | " + " | ".join(f"{100 * level:g} %" for level in levels) + " |")
+    print("|---|" + "---|" * len(levels))
+    for sequence, cells in summary:
+        print(f"| {sequence} | " + " | ".join(cells) + " |")
 
 
 def reached(rows, converged, level):

@@ -11,12 +11,9 @@ then the dofs and time each needs for 1 %, 0.1 %, 0.01 % and 0.001 %.
 
 Not a test: the times are this machine's (run one benchmark at a time).
 """
-import json
 import os
-import subprocess
-import tempfile
 
-from die2d_runs import PROGRAM, ROOT
+from die2d_runs import ROOT, reach_table, reached, run_summary
 
 EXACT = -0.4
 LEVELS = (0.01, 0.001, 0.0001, 0.00001)
@@ -66,13 +63,7 @@ end
 
 
 def run(**settings):
-    with tempfile.TemporaryDirectory() as work:
-        path = os.path.join(work, "deck.prm")
-        with open(path, "w") as f:
-            f.write(deck(os.path.join(work, "out"), **settings))
-        subprocess.run([PROGRAM, path], stdout=subprocess.DEVNULL, check=True, timeout=600)
-        with open(os.path.join(work, "out", "summary.json")) as f:
-            summary = json.load(f)
+    summary = run_summary(deck, settings, timeout=600)
     rows, elapsed = [], 0.0
     for c in summary["cycles"]:
         if not c["converged"]:
@@ -81,13 +72,6 @@ def run(**settings):
         value = c["quantities"]["F_x[1]"]
         rows.append(dict(dofs=c["dofs"], time=elapsed, value=value, error=abs(value / EXACT - 1)))
     return rows
-
-
-def reached(rows, level):
-    for r in rows:
-        if r["error"] <= level:
-            return f"{r['dofs']} / {r['time']:.2f} s"
-    return "not reached"
 
 
 def main():
@@ -111,12 +95,8 @@ def main():
         print("|---|---|---|---|")
         for r in rows:
             print(f"| {r['dofs']} | {r['time']:.3f} | {r['value']:.9f} | {r['error']:.2e} |")
-        summary.append((title, [reached(rows, level) for level in LEVELS]))
-    print("\n### Sink flow inlet force: dofs / cumulative wall time to reach the error\n")
-    print("| sequence | " + " | ".join(f"{100 * level:g} %" for level in LEVELS) + " |")
-    print("|---|" + "---|" * len(LEVELS))
-    for title, cells in summary:
-        print(f"| {title} | " + " | ".join(cells) + " |")
+        summary.append((title, [reached(rows, EXACT, level) for level in LEVELS]))
+    reach_table("Sink flow inlet force", summary, LEVELS)
 
 
 if __name__ == "__main__":
