@@ -30,6 +30,19 @@ namespace dieflow
 {
   namespace
   {
+    /**
+     * The mixed form's ||q / lambda|| / ||grad v|| at which the pressure
+     * equation counts as solved: its residual M q / lambda perturbs P div v
+     * by q / lambda, and the velocity (inf-sup stability) by about as much
+     * relative to grad v.
+     */
+    constexpr double mixed_pressure_tolerance = 1e-10;
+  } // namespace
+
+
+
+  namespace
+  {
     unsigned int
     velocity_degree(ParameterHandler &prm)
     {
@@ -256,8 +269,37 @@ namespace dieflow
     sparsity_pattern.copy_from(dsp);
     system_matrix.reinit(sparsity_pattern);
     linear_solver.reset();
-    augmented = linear_solver.iterative_for(dof_handler.n_dofs());
-    if (augmented)
+    const bool iterative = linear_solver.iterative_for(fe.degree, dof_handler.n_dofs());
+    augmented            = iterative && fe.degree == 1;
+    mixed_form           = iterative && fe.degree >= 2;
+    if (mixed_form)
+      {
+        mixed.reinit(dof_handler, hanging_node_constraints);
+        if (!saddle_point_solver)
+          saddle_point_solver = std::make_unique<SaddlePointSolver<dim>>();
+        std::vector<std::vector<bool>> constant_modes;
+        dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
+        saddle_point_solver->set_constant_modes(constant_modes);
+        // The previous mesh's cell stress gives the first pressure (cell means).
+        Vector<double> pressure(mixed.n_pressure());
+        if (transferred_cell_stress.size() == triangulation.n_active_cells() && velocity.size() == dof_handler.n_dofs())
+          {
+            for (unsigned int c = 0; c < triangulation.n_active_cells(); ++c)
+              pressure[c * mixed.n_modes] = transferred_cell_stress[c];
+            multiplier = multiplier_for(pressure, velocity);
+          }
+        else
+          multiplier = pressure;
+        // Without a previous mesh the pressure starts at zero, at the first
+        // assembly: q = -lambda P div v there (a velocity that only meets
+        // the boundary conditions has a divergence of order its speed over
+        // a cell, whose pressure lambda P div v would swamp the residual).
+        pressure_unset      = !(transferred_cell_stress.size() == triangulation.n_active_cells() &&
+                           velocity.size() == dof_handler.n_dofs());
+        accepted_multiplier = multiplier;
+        multiplier_update.reinit(multiplier.size());
+      }
+    else if (augmented)
       {
         std::vector<std::vector<bool>> constant_modes;
         dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
@@ -277,7 +319,7 @@ namespace dieflow
       }
     else
       multiplier.reinit(0);
-    assembler.set_multiplier(augmented ? &multiplier : nullptr);
+    assembler.set_multiplier(augmented || mixed_form ? &multiplier : nullptr);
     assembler.set_cell_penalty(augmented ? &cell_penalty : nullptr);
     if (mean_viscosity > 0)
       assembler.set_penalty(penalty_factor() * mean_viscosity);
@@ -310,7 +352,8 @@ namespace dieflow
                                 Vector<double> &              minus_residual)
   {
     const AssemblyInfo info =
-      assemble_with_contact(flow, contact, dof_handler, v, update_constraints, linearization, matrix, minus_residual, raw_residual);
+      assemble_with_contact(flow, contact, dof_handler, v, update_constraints, linearization, matrix, minus_residual, raw_residual,
+                            mixed_form ? &mixed : nullptr);
     contact_assemblies += info.contact ? 1 : 0;
     friction_terms += info.friction_terms;
     if (matrix != nullptr)
@@ -342,12 +385,14 @@ namespace dieflow
     // plateau higher (Norton-Hoff m = 0.2, degree 2: 3.75e-7 at 11,546 dofs,
     // six times that formula, 0.57 times this bound).
     double free_squared = 0, reaction_squared = 0;
+    // The mixed form's matrix is A alone: the penalty's |B^T| lambda |M^-1| |B| |v| joins it.
+    const Vector<double> penalty_rows = mixed_form ? mixed.penalty_magnitude(v) : Vector<double>();
     for (unsigned int i = 0; i < system_matrix.m(); ++i)
       if (update_constraints.is_constrained(i))
         reaction_squared += raw_residual[i] * raw_residual[i];
       else
         {
-          double row = 0;
+          double row = mixed_form ? penalty_rows[i] : 0.;
           for (auto entry = system_matrix.begin(i); entry != system_matrix.end(i); ++entry)
             row += std::abs(entry->value() * v[entry->column()]);
           free_squared += row * row;
@@ -386,6 +431,10 @@ namespace dieflow
   {
     if (augmented && v.linfty_norm() > 0)
       update_multiplier(v);
+    // The projection onto the new constraints moves v at contact nodes; the
+    // mixed form's pressure p = q + lambda P div v stays (else it jumps by
+    // lambda P div of that move).
+    const Vector<double> before = (mixed_form && !pressure_unset) ? v : Vector<double>();
     StateChanges changes;
     // The first iterate of a refined mesh is the previous solution
     // interpolated, not in equilibrium on the new mesh: its reactions say
@@ -401,6 +450,13 @@ namespace dieflow
       }
     states_from_previous_mesh = false;
     constraints.distribute(v);
+    if (before.size() == v.size() && before != v)
+      {
+        Vector<double> move = v;
+        move -= before;
+        accepted_multiplier.add(-assembler.get_penalty(), PressureProjection<dim>::project_all(dof_handler, move));
+        multiplier = accepted_multiplier;
+      }
     return changes;
   }
 
@@ -411,6 +467,15 @@ namespace dieflow
   DieFlowProblem<dim>::assemble_system(const Vector<double> &v, const Linearization linearization)
   {
     dealii::TimerOutput::Scope scope(timer, "assembly");
+    if (mixed_form)
+      {
+        if (pressure_unset)
+          accepted_multiplier = multiplier_for(Vector<double>(mixed.n_pressure()), v);
+        pressure_unset          = false;
+        multiplier              = accepted_multiplier;
+        assembled_iterate       = v;
+        assembled_linearization = linearization;
+      }
     assemble(assembler, v, linearization, &system_matrix, system_rhs);
     last_roundoff_bound = roundoff_bound(v);
     return relative_residual(system_rhs);
@@ -435,7 +500,9 @@ namespace dieflow
   {
     dealii::TimerOutput::Scope scope(timer, "linear solve");
     update.reinit(dof_handler.n_dofs());
-    if (augmented)
+    if (mixed_form)
+      solve_mixed(update);
+    else if (augmented)
       linear_solver.solve_iteratively(system_matrix, matrix_symmetric, system_rhs, update);
     else
       {
@@ -455,6 +522,12 @@ namespace dieflow
                                    const Linearization   linearization)
   {
     contact_states_valid = true;
+    if (mixed_form)
+      {
+        accepted_multiplier.add(step, multiplier_update);
+        multiplier = accepted_multiplier;
+        multiplier_update = 0;
+      }
     if (linearization == Linearization::newton)
       assembler.update_dual(dof_handler, v, &update, step);
     else
@@ -463,6 +536,96 @@ namespace dieflow
         next.add(step, update);
         assembler.update_dual(dof_handler, next, nullptr, 0);
       }
+  }
+
+
+
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::solve_mixed(Vector<double> &update)
+  {
+    // b_p = -R_p = M q / lambda.
+    Vector<double> inverse_penalty(mixed.n_cells), rhs_pressure, dp;
+    for (unsigned int c = 0; c < mixed.n_cells; ++c)
+      inverse_penalty[c] = 1. / mixed.penalty[c];
+    mixed.mass_vmult(rhs_pressure, accepted_multiplier, inverse_penalty);
+    const auto info = saddle_point_solver->solve(system_matrix, mixed, system_rhs, rhs_pressure, update, dp,
+                                                 linear_solver.iterative_tolerance, linear_solver.max_block_iterations);
+    ++linear_solver.counts.iterative_solves;
+    linear_solver.counts.krylov_iterations += info.iterations;
+    if (info.converged)
+      {
+        // dq = dp - lambda M^-1 B du.
+        Vector<double> divergence(mixed.n_pressure());
+        mixed.divergence.vmult(divergence, update);
+        mixed.inverse_mass_vmult(multiplier_update, divergence, mixed.penalty);
+        multiplier_update.sadd(-1., 1., dp);
+        return;
+      }
+    // The direct solver on the penalty form: with q = 0 its step is the
+    // mixed step's (J du = -R_v + B^T q is -R(v) with q = 0).
+    ++linear_solver.counts.direct_fallbacks;
+    accepted_multiplier = 0;
+    multiplier          = 0;
+    multiplier_update   = 0;
+    mixed_form          = false;
+    assemble(assembler, assembled_iterate, assembled_linearization, &system_matrix, system_rhs);
+    mixed_form = true;
+    linear_solver.factorize(system_matrix, matrix_symmetric);
+    linear_solver.solve(system_rhs, update);
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  DieFlowProblem<dim>::multiplier_for(const Vector<double> &p, const Vector<double> &v) const
+  {
+    const Vector<double> divergence = PressureProjection<dim>::project_all(dof_handler, v);
+    Vector<double>       q          = p;
+    q.add(-assembler.get_penalty(), divergence);
+    return q;
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::pressure_residual_ratio() const
+  {
+    if (accepted_multiplier.size() == 0 || velocity.size() != dof_handler.n_dofs())
+      return 0;
+    Vector<double> ones(mixed.n_cells), Mq;
+    ones = 1.;
+    mixed.mass_vmult(Mq, accepted_multiplier, ones);
+    const dealii::FEValuesExtractors::Vector     velocities(0);
+    dealii::FEValues<dim>                        gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values);
+    std::vector<dealii::Tensor<2, dim>>          grad(gauss.n_quadrature_points);
+    double                                       grad_squared = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        gauss.reinit(cell);
+        gauss[velocities].get_function_gradients(velocity, grad);
+        for (const unsigned int q : gauss.quadrature_point_indices())
+          grad_squared += grad[q].norm_square() * gauss.JxW(q);
+      }
+    const double q_norm = std::sqrt(accepted_multiplier * Mq);
+    return grad_squared > 0 ? q_norm / (assembler.get_penalty() * std::sqrt(grad_squared)) : q_norm;
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::set_trial_step(const double step)
+  {
+    if (!mixed_form)
+      return;
+    multiplier = accepted_multiplier;
+    multiplier.add(step, multiplier_update);
   }
 
 
@@ -535,7 +698,7 @@ namespace dieflow
     return cell_pressure(dof_handler,
                          velocity,
                          assembler.get_penalty(),
-                         augmented ? &multiplier : nullptr,
+                         augmented || mixed_form ? &multiplier : nullptr,
                          augmented ? &cell_penalty : nullptr);
   }
 
@@ -545,6 +708,8 @@ namespace dieflow
   bool
   DieFlowProblem<dim>::constraints_settled() const
   {
+    if (mixed_form)
+      return pressure_residual_ratio() <= mixed_pressure_tolerance;
     return !augmented || last_divergence_ratio <= linear_solver.divergence_tolerance;
   }
 
@@ -569,8 +734,9 @@ namespace dieflow
   bool
   DieFlowProblem<dim>::is_linear() const
   {
-    // The augmented Lagrangian iterates on its multiplier.
-    return material.is_newtonian() && contact.empty() && !augmented;
+    // The augmented Lagrangian iterates on its multiplier; the mixed form's
+    // Krylov solves are inexact.
+    return material.is_newtonian() && contact.empty() && !augmented && !mixed_form;
   }
 
 
@@ -612,6 +778,15 @@ namespace dieflow
     FlowAssembler<dim> start(newtonian, nullptr);
     start.copy_loads(assembler);
     start.set_penalty(penalty_factor() * start_viscosity);
+    if (mixed_form)
+      {
+        // p = 0 to start with (see setup_system()), with the start's lambda.
+        accepted_multiplier = PressureProjection<dim>::project_all(dof_handler, velocity);
+        accepted_multiplier *= -start.get_penalty();
+        multiplier     = accepted_multiplier;
+        pressure_unset = false;
+        start.set_multiplier(&multiplier);
+      }
     contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity);
     {
       dealii::TimerOutput::Scope scope(timer, "assembly");
@@ -621,11 +796,28 @@ namespace dieflow
     solve(update);
     velocity += update;
     ++start_solves;
+    // The start's pressure, p = q + lambda P div v with its own lambda.
+    Vector<double> start_pressure;
+    if (mixed_form)
+      {
+        start_pressure = accepted_multiplier;
+        start_pressure.add(1., multiplier_update);
+        start_pressure.add(start.get_penalty(), PressureProjection<dim>::project_all(dof_handler, velocity));
+      }
     // The first Uzawa step uses the r this solve had.
     uniform_cell_penalty(start.get_penalty());
 
     mean_viscosity = assembler.mean_viscosity(dof_handler, velocity);
     assembler.set_penalty(penalty_factor() * mean_viscosity);
+    if (mixed_form)
+      {
+        // As the penalty form's p = lambda P div v does when lambda changes
+        // (the same Newton path as the direct solver's).
+        start_pressure *= assembler.get_penalty() / start.get_penalty();
+        accepted_multiplier = multiplier_for(start_pressure, velocity);
+        multiplier          = accepted_multiplier;
+        multiplier_update   = 0;
+      }
     contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity);
     contact_states_valid = true;
     log << "  Newtonian start: eta = " << std::setprecision(4) << start_viscosity
@@ -1094,7 +1286,7 @@ namespace dieflow
         cycle_summary.converged            = result.converged;
         cycle_summary.nonlinear_iterations = result.iterations;
         cycle_summary.linear_solves        = result.linear_solves + start_solves;
-        cycle_summary.linear_method        = augmented ? "iterative" : "direct";
+        cycle_summary.linear_method        = augmented || mixed_form ? "iterative" : "direct";
         cycle_summary.linear_counts        = linear_solver.counts;
         cycle_summary.history              = result.history;
         if (start.size() == velocity.size() && velocity.l2_norm() > 0)
@@ -1125,7 +1317,7 @@ namespace dieflow
         log << "  converged: " << result.iterations << " iterations, " << cycle_summary.linear_solves
             << " linear solves, divergence ratio " << std::scientific << std::setprecision(2)
             << cycle_summary.divergence_ratio << std::defaultfloat << std::endl;
-        if (augmented)
+        if (augmented || mixed_form)
           log << "  iterative linear solver: " << linear_solver.counts.iterative_solves << " solves, "
               << linear_solver.counts.krylov_iterations << " Krylov iterations, " << linear_solver.counts.direct_fallbacks
               << " direct fallbacks" << std::endl;

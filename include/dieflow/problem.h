@@ -6,6 +6,8 @@
 #include <dieflow/flow/flow_assembler.h>
 #include <dieflow/mesh/geometry.h>
 #include <dieflow/solvers/linear_solver.h>
+#include <dieflow/solvers/saddle_point_solver.h>
+#include <dieflow/flow/mixed_penalty.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/solvers/nonlinear_solver.h>
 #include <dieflow/parameters.h>
@@ -108,7 +110,33 @@ namespace dieflow
                 const double          step,
                 const Linearization   linearization) override;
 
+    void
+    set_trial_step(const double step) override;
+
   private:
+    /**
+     * The mixed form of the stable pair's penalty (iterative linear solver,
+     * velocity degree 2; MixedPenalty, SaddlePointSolver). The pressure
+     * coefficients p are carried as unknowns of Newton's method beside v,
+     * through the multiplier q = p - lambda P div v of FlowAssembler (the
+     * stress is 2 eta D + (q + lambda P div v) I = 2 eta D + p I), so that
+     * neither the residual nor a Krylov method's error is multiplied by
+     * lambda/eta: the momentum residual is R_v = A(v) + B^T p - f, the
+     * pressure's R_p = B v - M p / lambda = -M q / lambda, and each
+     * Newton step solves the mixed system for (du, dp) and moves q by
+     * dq = dp - lambda M^-1 B du. At the solution q = 0 and (v, p) is the
+     * penalty solution. The step's q moves with the line search's trial v
+     * (set_trial_step()).
+     */
+    void
+    solve_mixed(Vector<double> &update);
+    /// q = p - lambda M^-1 B v for the cell coefficients @p p (lambda: the assembler's).
+    Vector<double>
+    multiplier_for(const Vector<double> &p, const Vector<double> &v) const;
+    /// ||q / lambda|| / ||grad v|| (L2 norms; 0 without q).
+    double
+    pressure_residual_ratio() const;
+
     /**
      * The augmented-Lagrangian (iterated penalty) form of the incompressible
      * limit, used with the iterative linear solver (Fortin and Glowinski,
@@ -245,8 +273,19 @@ namespace dieflow
 
     dealii::SparsityPattern      sparsity_pattern;
     dealii::SparseMatrix<double> system_matrix;
-    /// The augmented-Lagrangian form is in use (iterative linear solver).
+    /// The augmented-Lagrangian form is in use (iterative linear solver, degree 1).
     bool                         augmented = false;
+    /// The mixed form is in use (iterative linear solver, degree 2).
+    bool                         mixed_form = false;
+    MixedPenalty<dim>            mixed;
+    std::unique_ptr<SaddlePointSolver<dim>> saddle_point_solver;
+    /// The mixed form's q of the accepted iterate, and the last step's dq.
+    Vector<double>               accepted_multiplier, multiplier_update;
+    /// The pressure is to start at zero at the next assembly (no previous mesh's).
+    bool                         pressure_unset = false;
+    /// The iterate and linearisation of the last assembly (for the direct fallback).
+    Vector<double>               assembled_iterate;
+    Linearization                assembled_linearization = Linearization::picard;
     /// Its multiplier q per active cell (see update_multiplier()).
     Vector<double>               multiplier;
     /// Its penalty r per cell: 'Augmentation factor' x the cell's viscosity.

@@ -979,7 +979,8 @@ namespace dieflow
                         const Linearization               linearization,
                         dealii::SparseMatrix<double> *    matrix,
                         dealii::Vector<double> &          minus_residual,
-                        dealii::Vector<double> &          raw_residual)
+                        dealii::Vector<double> &          raw_residual,
+                        MixedPenalty<dim> *               mixed)
   {
     std::vector<ContactContribution<dim>> contributions;
     RowTransforms                         transforms;
@@ -1001,7 +1002,8 @@ namespace dieflow
         info.symmetric = info.symmetric && transforms.empty();
       }
     if (matrix != nullptr)
-      flow.assemble_system(dof_handler, v, update_constraints, linearization, *matrix, minus_residual, raw_residual, &transforms);
+      flow.assemble_system(dof_handler, v, update_constraints, linearization, *matrix, minus_residual, raw_residual, &transforms,
+                           mixed);
     else
       flow.assemble_residual(dof_handler, v, update_constraints, minus_residual, raw_residual, &transforms);
 
@@ -1022,5 +1024,6 @@ namespace dieflow
   template AssemblyInfo
   assemble_with_contact<2>(const FlowAssembler<2> &, const ContactSet<2> &, const DoFHandler<2> &,
                            const dealii::Vector<double> &, const AffineConstraints<double> &, const Linearization,
-                           dealii::SparseMatrix<double> *, dealii::Vector<double> &, dealii::Vector<double> &);
+                           dealii::SparseMatrix<double> *, dealii::Vector<double> &, dealii::Vector<double> &,
+                           MixedPenalty<2> *);
 } // namespace dieflow

@@ -103,6 +103,12 @@ namespace dieflow
       dealii::FullMatrix<double>                   matrix;
       dealii::Vector<double>                       residual;
       std::vector<dealii::types::global_dof_index> dofs;
+      /// The mixed form's cell data (see MixedPenalty): B_K, M_K, M_K^-1,
+      /// the pressure unknowns, lambda_K, the mean eta_K, h_K.
+      dealii::FullMatrix<double>                   divergence, mass, inverse_mass;
+      std::vector<dealii::types::global_dof_index> modes;
+      unsigned int                                 cell = 0;
+      double                                       penalty = 0, viscosity = 0, size = 0;
     };
 
     /// lambda div v div w at the cell centre, and q div w (Q1-P0).
@@ -146,7 +152,8 @@ namespace dieflow
                           const dealii::Vector<double> *multiplier,
                           ScratchData<dim> &            scratch,
                           CopyData &                    copy,
-                          const bool                    with_matrix)
+                          const bool                    with_matrix,
+                          const bool                    mixed)
     {
       auto &             projection    = scratch.projection;
       const unsigned int n_modes       = projection.n_modes();
@@ -164,6 +171,18 @@ namespace dieflow
           copy.residual[i] += B(m, i) * scratch.cell_stress[m];
       if (!with_matrix)
         return;
+      if (mixed)
+        {
+          copy.divergence   = B;
+          copy.mass         = projection.mass();
+          copy.inverse_mass = Minv;
+          copy.size         = projection.cell_size();
+          copy.penalty      = lambda;
+          copy.modes.resize(n_modes);
+          for (unsigned int m = 0; m < n_modes; ++m)
+            copy.modes[m] = first + m;
+          return;
+        }
       // (M^-1 B) once, then B^T (M^-1 B).
       dealii::FullMatrix<double> MinvB(n_modes, dofs_per_cell);
       Minv.mmult(MinvB, B);
@@ -197,7 +216,8 @@ namespace dieflow
                                SparseMatrix<double> *           matrix,
                                Vector<double> &                 rhs,
                                Vector<double> &                 raw_residual,
-                               const RowTransforms *            transforms) const
+                               const RowTransforms *            transforms,
+                               MixedPenalty<dim> *              mixed) const
   {
     Assert(penalty > 0, dealii::ExcMessage("The penalty has not been set."));
     const auto &       fe            = dof_handler.get_fe();
@@ -206,8 +226,15 @@ namespace dieflow
     const bool                               newton = (linearization == Linearization::newton);
     const bool use_dual = (tangent == Tangent::primal_dual) && dual.size() == n_dual_points(dof_handler);
 
+    Assert(mixed == nullptr || fe.degree >= 2, dealii::ExcMessage("The mixed form needs the stable pair (degree 2)."));
     if (matrix != nullptr)
       *matrix = 0;
+    if (mixed != nullptr && matrix != nullptr)
+      mixed->clear_values();
+    else
+      mixed = nullptr;
+    dealii::AffineConstraints<double> no_constraints;
+    no_constraints.close();
     rhs.reinit(dof_handler.n_dofs());
     raw_residual.reinit(dof_handler.n_dofs());
 
@@ -225,6 +252,7 @@ namespace dieflow
       // Viscous term, 2x2 Gauss points.
       scratch.viscous.reinit(cell);
       const auto &viscous = scratch.viscous;
+      double      eta_integral = 0, volume = 0;
       for (const unsigned int q : viscous.quadrature_point_indices())
         {
           dealii::SymmetricTensor<2, dim> D;
@@ -235,6 +263,8 @@ namespace dieflow
             }
           const auto   value = material->evaluate(std::sqrt(2. / 3. * (D * D)));
           const double JxW   = viscous.JxW(q);
+          eta_integral += value.eta * JxW;
+          volume += JxW;
           if (body_force != nullptr)
             body_force->vector_value(viscous.quadrature_point(q), scratch.force);
 
@@ -287,7 +317,9 @@ namespace dieflow
       if (fe.degree == 1)
         add_centre_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr);
       else
-        add_projected_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr);
+        add_projected_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr, mixed != nullptr);
+      copy.cell      = cell->active_cell_index();
+      copy.viscosity = eta_integral / volume;
 
       if (matrix != nullptr)
         for (unsigned int i = 0; i < dofs_per_cell; ++i)
@@ -311,6 +343,19 @@ namespace dieflow
           apply_row_transforms(fe, *transforms, copy.dofs, matrix != nullptr ? &transformed : nullptr, minus_residual);
         }
       minus_residual *= -1.;
+      if (mixed != nullptr)
+        {
+          no_constraints.distribute_local_to_global(copy.divergence, copy.modes, update_constraints, copy.dofs, mixed->divergence);
+          dealii::FullMatrix<double> gradient(copy.dofs.size(), copy.modes.size());
+          gradient.copy_transposed(copy.divergence);
+          if (transforms != nullptr && !transforms->empty())
+            {
+              Vector<double> unused(copy.dofs.size());
+              apply_row_transforms(fe, *transforms, copy.dofs, &gradient, unused);
+            }
+          update_constraints.distribute_local_to_global(gradient, copy.dofs, no_constraints, copy.modes, mixed->gradient);
+          mixed->set_cell(copy.cell, copy.mass, copy.inverse_mass, copy.penalty, copy.viscosity, copy.size);
+        }
       if (matrix != nullptr)
         update_constraints.distribute_local_to_global(*local_matrix, minus_residual, copy.dofs, *matrix, rhs);
       else
@@ -336,9 +381,10 @@ namespace dieflow
                                       SparseMatrix<double> &           matrix,
                                       Vector<double> &                 rhs,
                                       Vector<double> &                 raw_residual,
-                                      const RowTransforms *            transforms) const
+                                      const RowTransforms *            transforms,
+                                      MixedPenalty<dim> *              mixed) const
   {
-    assemble(dof_handler, velocity, update_constraints, linearization, &matrix, rhs, raw_residual, transforms);
+    assemble(dof_handler, velocity, update_constraints, linearization, &matrix, rhs, raw_residual, transforms, mixed);
   }
 
 
@@ -352,7 +398,7 @@ namespace dieflow
                                         Vector<double> &                 raw_residual,
                                         const RowTransforms *            transforms) const
   {
-    assemble(dof_handler, velocity, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms);
+    assemble(dof_handler, velocity, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms, nullptr);
   }
 
 

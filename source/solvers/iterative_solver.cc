@@ -20,7 +20,7 @@ namespace dieflow
 
 
 
-  IterativeSolver::MpiOnFirstUse::MpiOnFirstUse()
+  MpiOnFirstUse::MpiOnFirstUse()
   {
     int initialised = 0;
     MPI_Initialized(&initialised);
@@ -34,6 +34,20 @@ namespace dieflow
       if (!finalised)
         MPI_Finalize();
     });
+  }
+
+
+
+  dealii::TrilinosWrappers::PreconditionAMG::AdditionalData
+  velocity_amg_data(const std::vector<std::vector<bool>> &constant_modes, const bool higher_order)
+  {
+    dealii::TrilinosWrappers::PreconditionAMG::AdditionalData data;
+    data.elliptic              = true;
+    data.higher_order_elements = higher_order;
+    data.smoother_sweeps       = 2;
+    data.aggregation_threshold = 0.02;
+    data.constant_modes        = constant_modes;
+    return data;
   }
 
 
@@ -62,13 +76,7 @@ namespace dieflow
         return info;
       }
 
-    dealii::TrilinosWrappers::PreconditionAMG::AdditionalData data;
-    data.elliptic              = true;
-    data.higher_order_elements = false;
-    data.smoother_sweeps       = 2;
-    data.aggregation_threshold = 0.02;
-    data.constant_modes        = constant_modes;
-    preconditioner.initialize(matrix, data);
+    preconditioner.initialize(matrix, velocity_amg_data(constant_modes, false));
 
     dealii::SolverControl control(max_iterations, target, false, false);
     try

@@ -196,7 +196,7 @@ namespace dieflow
                       "a system it cannot solve goes to the direct solver. auto: "
                       "iterative from 'Iterative from dofs' unknowns on.");
     prm.declare_entry("Iterative from dofs",
-                      "3000000",
+                      "0",
                       dealii::Patterns::Integer(0),
                       "With Method = auto: the number of unknowns from which the "
                       "iterative solver is used. The direct solver was faster at "
@@ -317,9 +317,22 @@ namespace dieflow
 
 
   bool
-  LinearSolver::iterative_for(const std::size_t n_dofs) const
+  LinearSolver::iterative_for(const unsigned int degree, const std::size_t n_dofs) const
   {
-    return method == "iterative" || (method == "auto" && n_dofs >= iterative_threshold);
+    const std::size_t threshold = iterative_threshold > 0 ? iterative_threshold : auto_threshold(degree);
+    return method == "iterative" || (method == "auto" && n_dofs >= threshold);
+  }
+
+
+
+  std::size_t
+  LinearSolver::auto_threshold(const unsigned int degree)
+  {
+    // Degree 1 (augmented Lagrangian): the direct solver was faster at
+    // every measured size (to 458k unknowns); this is where its
+    // factorisation would outgrow some 13 GB (extrapolated).
+    // Degree 2 (mixed form): the measured crossover (doc/benchmarks.md).
+    return degree == 1 ? 3000000 : 200000;
   }
 
 

@@ -202,6 +202,7 @@ namespace dieflow
       {
         trial = v;
         trial.add(step, update);
+        system.set_trial_step(step);
         const double r = system.residual(trial, minus_residual);
         const double g = -(update * minus_residual);
         if (std::isfinite(r) && std::isfinite(g) &&

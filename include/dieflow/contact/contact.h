@@ -318,7 +318,8 @@ namespace dieflow
    * the row transformations of the slipping contact nodes, then the contact
    * elements' own residuals and tangents (the slave's block: the die is
    * rigid), condensed with @p update_constraints. Without @p matrix, the
-   * residual only.
+   * residual only; with @p mixed, the penalty's blocks apart (see
+   * FlowAssembler::assemble_system()).
    */
   struct AssemblyInfo
   {
@@ -341,7 +342,8 @@ namespace dieflow
                         const Linearization               linearization,
                         dealii::SparseMatrix<double> *    matrix,
                         dealii::Vector<double> &          minus_residual,
-                        dealii::Vector<double> &          raw_residual);
+                        dealii::Vector<double> &          raw_residual,
+                        MixedPenalty<dim> *               mixed = nullptr);
 } // namespace dieflow
 
 #endif

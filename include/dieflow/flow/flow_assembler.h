@@ -2,6 +2,7 @@
 #define dieflow_flow_assembler_h
 
 #include <dieflow/flow/material.h>
+#include <dieflow/flow/mixed_penalty.h>
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/symmetric_tensor.h>
@@ -155,6 +156,10 @@ namespace dieflow
      * (unconstrained) residual R(v) whose entries at constrained dofs are
      * the reaction forces; @p transforms (if any) apply to the condensed
      * system, not to the raw residual.
+     *
+     * With @p mixed (velocity degree 2 only), the penalty's matrix term
+     * lambda B^T M^-1 B stays out of @p matrix, which is then the velocity
+     * block A, and its blocks go to @p mixed (the residual is unchanged).
      */
     void
     assemble_system(const DoFHandler<dim> &           dof_handler,
@@ -164,7 +169,8 @@ namespace dieflow
                     SparseMatrix<double> &            matrix,
                     Vector<double> &                  rhs,
                     Vector<double> &                  raw_residual,
-                    const RowTransforms *             transforms = nullptr) const;
+                    const RowTransforms *             transforms = nullptr,
+                    MixedPenalty<dim> *               mixed      = nullptr) const;
 
     /// As assemble_system() without the matrix: rhs = -R(v) condensed, and the raw R(v).
     void
@@ -188,7 +194,8 @@ namespace dieflow
              SparseMatrix<double> *            matrix,
              Vector<double> &                  rhs,
              Vector<double> &                  raw_residual,
-             const RowTransforms *             transforms) const;
+             const RowTransforms *             transforms,
+             MixedPenalty<dim> *               mixed) const;
 
     unsigned int
     n_dual_points(const DoFHandler<dim> &dof_handler) const;

@@ -69,6 +69,20 @@ namespace dieflow
       return B;
     }
 
+    /// M_K, for the last reinit().
+    const dealii::FullMatrix<double> &
+    mass() const
+    {
+      return M;
+    }
+
+    /// h_K = |K|^(1/dim), for the last reinit().
+    double
+    cell_size() const
+    {
+      return h;
+    }
+
     /// M_K^-1, for the last reinit().
     const dealii::FullMatrix<double> &
     inverse_mass() const

@@ -16,6 +16,20 @@ namespace dieflow
     unsigned int iterations = 0;
   };
 
+  /// Initialises MPI if nobody has (Trilinos needs it even for one
+  /// process; the program does not initialise it, see main.cc) and
+  /// finalises it at exit.
+  struct MpiOnFirstUse
+  {
+    MpiOnFirstUse();
+  };
+
+  /// Smoothed aggregation for a velocity block (Chebyshev smoothing, two
+  /// sweeps, the components' @p constant_modes as near-null space;
+  /// @p higher_order: Q2 and up), as ASPECT sets it up.
+  dealii::TrilinosWrappers::PreconditionAMG::AdditionalData
+  velocity_amg_data(const std::vector<std::vector<bool>> &constant_modes, const bool higher_order);
+
   /**
    * A Krylov method preconditioned by algebraic multigrid (Trilinos ML,
    * smoothed aggregation on the constant modes of each velocity component,
@@ -48,13 +62,8 @@ namespace dieflow
           const double                        tolerance);
 
   private:
-    /// Initialises MPI if nobody has (Trilinos needs it even for one
-    /// process; the program does not initialise it, see main.cc) and
-    /// finalises it at exit. First member: the preconditioner needs MPI.
-    struct MpiOnFirstUse
-    {
-      MpiOnFirstUse();
-    } mpi;
+    /// First member: the preconditioner needs MPI.
+    MpiOnFirstUse mpi;
     std::vector<std::vector<bool>>            constant_modes;
     dealii::TrilinosWrappers::PreconditionAMG preconditioner;
   };

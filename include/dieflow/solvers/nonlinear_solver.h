@@ -125,6 +125,15 @@ namespace dieflow
                 const double                  step,
                 const Linearization           linearization) = 0;
 
+    /// The residual() calls that follow evaluate v + @p step * update of
+    /// the last solve (state that moves with v, as a mixed form's
+    /// pressure, moves with it); accept_step() and assemble_system() end it.
+    virtual void
+    set_trial_step(const double step)
+    {
+      (void)step;
+    }
+
     /// Solves J du = -R with the last assembled system.
     virtual void
     solve(dealii::Vector<double> &update) = 0;

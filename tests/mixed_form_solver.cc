@@ -1,0 +1,135 @@
+// The iterative method for velocity degree 2 (Linear solver/Method =
+// iterative: the penalty's mixed form, GMRES with the block-triangular
+// AMG / pressure-mass preconditioner, SaddlePointSolver) against the direct
+// one (the penalised system factorised). Both solve the same discrete
+// problem, so they agree up to the Newton tolerance, not the penalty's
+// compressibility (the augmented Lagrangian of degree 1 differs from the
+// penalty solution by 1e-5; this method by round-off):
+//  - die2d N1 (Newtonian; contact with slipping Coulomb friction: the
+//    momentum rows of slipping nodes are transformed, GMRES on a
+//    non-symmetric system), two adaptive cycles: same contact states, ram
+//    force, die forces and probe velocity within 1e-7 (measured 2e-10;
+//    Newton stops at a relative residual of about 1e-8, and both runs
+//    stop there);
+//  - die2d P1 (Norton-Hoff m = 0.2, viscosity varying by 1e4): converges,
+//    every quantity within 1e-4 (measured 2e-5). Not 1e-7: where Newton
+//    projects v onto a changed active set, the penalty form's pressure
+//    lambda P div v jumps by lambda P div of that move and the mixed form's
+//    carried pressure does not, so the iterations take different paths;
+//    here they end with the land's separation point one node apart (6.4 and
+//    6.6 mm separated), both within the contact tolerances;
+//  - an exact solution: plane Poiseuille flow lies in the Q2 space, so the
+//    discrete solution is exact; the iterative one must be too (L2 error
+//    below 1e-8 of the unit speed, as the direct solver's test asks);
+//  - the outer GMRES iterations per solve stay below a bound on two
+//    meshes (frictionless die2d, 8 and 16 cells across; the bound is twice
+//    the most measured, so that it catches a preconditioner that stopped
+//    working, not round-off);
+//  - Method = auto: direct below 'Iterative from dofs', iterative from it on.
+#include <dieflow/run.h>
+
+#include "report.h"
+
+#include <deal.II/base/mpi.h>
+
+#include <cmath>
+
+using namespace dieflow;
+
+namespace
+{
+  std::string
+  die2d(const unsigned int across)
+  {
+    return "subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = " + std::to_string(across) +
+           "\n end\nend\nsubsection Discretisation\n set Velocity degree = 2\nend\n";
+  }
+  const std::string p1 = "subsection Material\n set Law = Norton-Hoff\n set Consistency K = 0.834\n"
+                         " set Rate sensitivity m = 0.2\n set Minimum strain rate = 1e-4\nend\n";
+  const std::string frictionless =
+    "subsection Contact\n set Friction coefficients = 3: 0, 4: 0\nend\n";
+
+  RunSummary
+  run(const std::string &deck, const std::string &method, const unsigned int cycles = 1)
+  {
+    return run_deck_text(deck + "subsection Refinement\n set Cycles = " + std::to_string(cycles) +
+                         "\n set Strategy = adaptive\nend\nsubsection Linear solver\n" + method + "end\n");
+  }
+
+  double
+  gap(const double a, const double b)
+  {
+    return std::abs(a / b - 1);
+  }
+
+  /// Every quantity (the ram force, each die's normal and friction force, the probe's v_x) within @p tolerance.
+  bool
+  agree(const CycleSummary &d, const CycleSummary &i, const double tolerance)
+  {
+    bool same = d.quantities.size() == i.quantities.size() && d.quantities.back().first == "v_x(probe)";
+    for (unsigned int k = 0; same && k < d.quantities.size(); ++k)
+      same = gap(i.quantities[k].second, d.quantities[k].second) < tolerance;
+    return same;
+  }
+
+  unsigned int
+  most_iterations_per_solve(const RunSummary &run)
+  {
+    unsigned int most = 0;
+    for (const auto &c : run.cycles)
+      most = std::max(most, c.linear_counts.krylov_iterations / std::max(1u, c.linear_counts.iterative_solves));
+    return most;
+  }
+} // namespace
+
+
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const RunSummary direct    = run(die2d(8), " set Method = direct\n", 2);
+  const RunSummary iterative = run(die2d(8), " set Method = iterative\n", 2);
+  report("N1: both converge", direct.converged && iterative.converged);
+  for (unsigned int c = 0; c < 2; ++c)
+    {
+      const CycleSummary &d = direct.cycles[c], &i = iterative.cycles[c];
+      const std::string   cycle = "N1 cycle " + std::to_string(c) + ": ";
+      report(cycle + "the iterative run used the iterative method, without falling back",
+             i.linear_method == "iterative" && d.linear_method == "direct" && i.linear_counts.direct_fallbacks == 0);
+      report(cycle + "same contact states",
+             d.contact_nodes.separated == i.contact_nodes.separated && d.contact_nodes.stick == i.contact_nodes.stick &&
+               d.contact_nodes.slip == i.contact_nodes.slip);
+      report(cycle + "ram force, die forces and probe velocity within 1e-7", agree(d, i, 1e-7));
+    }
+
+  const RunSummary p1_direct    = run(die2d(8) + p1, " set Method = direct\n");
+  const RunSummary p1_iterative = run(die2d(8) + p1, " set Method = iterative\n");
+  report("P1: both converge", p1_direct.converged && p1_iterative.converged);
+  report("P1: ram force, die forces and probe velocity within 1e-4", agree(p1_direct.cycles[0], p1_iterative.cycles[0], 1e-4));
+
+  const RunSummary poiseuille = run_deck_text(
+    "subsection Mesh\n set Source = box\n subsection Box\n  set Lower corner = 0, 0\n  set Upper corner = 2, 1\n"
+    "  set Subdivisions = 8, 4\n end\nend\nsubsection Material\n set Law = Newtonian\n set Viscosity = 1\nend\n"
+    "subsection Boundary conditions\n set Prescribed velocity ids = 1, 2, 4\n set Symmetry ids = 3\n"
+    " set Slip wall ids =\n set Traction free ids =\n set Body force = 1; 0\n"
+    " subsection Prescribed velocity 1\n  set Velocity = 0.5*(1-y^2); 0\n end\n"
+    " subsection Prescribed velocity 2\n  set Velocity = 0.5*(1-y^2); 0\n end\n"
+    " subsection Prescribed velocity 4\n  set Velocity = 0; 0\n end\nend\n"
+    "subsection Refinement\n set Cycles = 2\nend\nsubsection Contact\n set Die ids =\nend\n"
+    "subsection Verification\n set Exact velocity = 0.5*(1-y^2); 0\nend\n"
+    "subsection Discretisation\n set Velocity degree = 2\nend\nsubsection Linear solver\n set Method = iterative\nend\n");
+  report("Poiseuille (exact in Q2): converges with the iterative method",
+         poiseuille.converged && poiseuille.cycles[0].linear_method == "iterative");
+  report("Poiseuille: exact on both meshes (L2 error below 1e-8)",
+         *poiseuille.cycles[0].velocity_l2_error < 1e-8 && *poiseuille.cycles[1].velocity_l2_error < 1e-8);
+
+  const unsigned int coarse = most_iterations_per_solve(run(die2d(8) + frictionless, " set Method = iterative\n"));
+  const unsigned int fine   = most_iterations_per_solve(run(die2d(16) + frictionless, " set Method = iterative\n"));
+  report("outer iterations per solve bounded on 8 and 16 cells across (at most 120)", coarse <= 120 && fine <= 120);
+
+  const RunSummary below = run(die2d(8), " set Method = auto\n set Iterative from dofs = 1000000\n");
+  const RunSummary above = run(die2d(8), " set Method = auto\n set Iterative from dofs = 100\n");
+  report("auto: direct below the threshold, iterative from it on",
+         below.cycles[0].linear_method == "direct" && above.cycles[0].linear_method == "iterative");
+}
