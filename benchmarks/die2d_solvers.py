@@ -7,18 +7,24 @@ unknowns for each method, and the crossover (the first size at which the
 iterative method is faster), if any.
 
   direct:    the penalty method (lambda = 1e7 eta), CHOLMOD/UMFPACK
-  iterative: the augmented Lagrangian (r = 1e3 x cell viscosity), AMG-
-             preconditioned CG/GMRES, falling back to direct where it fails
+  iterative: degree 1, the augmented Lagrangian (r = 1e3 x cell
+             viscosity), AMG-preconditioned CG/GMRES; degree 2, the mixed
+             form by GMRES with the block-triangular AMG / pressure-mass
+             preconditioner; both fall back to direct where they fail
 
 Each run is a process of its own (peak memory is that run's) with a time
 limit; an iterative size that exceeds it ends the iterative series.
 
     benchmarks/die2d_solvers.py [--across 24,48,96,144,212] [--limit 900]
-                                [--program build/dieflow]
+                                [--degree 1] [--methods direct,iterative]
+                                [--extra 'deck text'] [--program build/dieflow]
+
+(--extra: entries appended to the deck, e.g. another material, penalty or
+friction, for the iteration-count tables.)
 
 Not a test: the figures depend on the machine, which the report names.
 """
-import argparse, math, os, time
+import argparse, math, os, re, time
 
 from die2d_levels import machine, run_die2d
 
@@ -53,20 +59,33 @@ def main():
     parser.add_argument("--across", default="24,48,96,144,212")
     parser.add_argument("--limit", type=float, default=900)
     parser.add_argument("--program", default=os.path.join(root, "build", "dieflow"))
+    parser.add_argument("--degree", type=int, default=1)
+    parser.add_argument("--methods", default="direct,iterative")
+    parser.add_argument("--extra", default="")
     args = parser.parse_args()
-    base = open(os.path.join(root, "parameters", "die2d.prm")).read()
-    # What doc/benchmarks.md measured: the degree-1 deck on the old built-in
-    # mesh (the default deck now grades its corners and takes degree 2).
-    base += "\nsubsection Mesh\n  set Corner refinements = 0\n  subsection Die2d\n    set Layout = blocks\n  end\nend\nsubsection Discretisation\n  set Velocity degree = 1\nend\n"
+    extra = args.extra.replace("\\n", "\n") + "\n"
+    # The deck refuses an entry set twice: the entries set here and in
+    # --extra leave the default deck first.
+    own = {"Corner refinements", "Velocity degree", "Cycles", "Cells across", "Layout", "Output directory", "Write VTU"}
+    own |= set(re.findall(r"set\s+([^=\n]+?)\s*=", extra))
+    base = "".join(line for line in open(os.path.join(root, "parameters", "die2d.prm")).readlines()
+                   if not any(re.match(r"\s*set\s+%s\s*=" % re.escape(key), line) for key in own))
+    # What doc/benchmarks.md measured: the built-in mesh without corner
+    # grading, one mesh per run.
+    base += ("\nsubsection Mesh\n  set Corner refinements = 0\n  subsection Die2d\n    set Layout = blocks\n  end\nend\n"
+             "subsection Discretisation\n  set Velocity degree = %d\nend\n"
+             "subsection Refinement\n  set Cycles = 1\nend\n" % args.degree) + extra
 
-    print("die2d N1 (Newtonian, contact with Coulomb friction), one mesh per run")
+    print("die2d N1 (Newtonian, contact with Coulomb friction), velocity degree %d, one mesh per run" % args.degree)
+    if args.extra:
+        print("deck additions: " + args.extra)
     print("machine: " + machine())
     print()
     print("| method | cells across | dofs | exit | Newton its | linear solves | Krylov its | direct fallbacks "
           "| wall [s] | linear solve [s] | peak memory [MB] | ram force [N/mm] | divergence ratio |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    results = {"direct": [], "iterative": []}
-    for method in ("direct", "iterative"):
+    results = {m: [] for m in args.methods.split(",")}
+    for method in results:
         for across in [int(a) for a in args.across.split(",")]:
             r = run(args.program, base, across, method, args.limit)
             if r is None:
@@ -79,7 +98,7 @@ def main():
     print()
     for method, rows in results.items():
         print("%s: wall time grows as N^%.2f over %d sizes" % (method, exponent(rows), len(rows)))
-    crossover = [i["dofs"] for d, i in zip(results["direct"], results["iterative"]) if i["wall"] < d["wall"]]
+    crossover = [i["dofs"] for d, i in zip(results.get("direct", []), results.get("iterative", [])) if i["wall"] < d["wall"]]
     print("crossover: " + ("iterative faster from %d dofs" % crossover[0] if crossover else
                            "none: the direct method is faster at every size both ran"))
 

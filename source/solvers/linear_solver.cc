@@ -188,21 +188,28 @@ namespace dieflow
                       "direct: sparse factorisation (SuiteSparse) of the penalty "
                       "problem, robust for any penalty and any friction state; its "
                       "ordering and symbolic factorisation are reused by every "
-                      "iteration on a mesh. iterative: the augmented-Lagrangian form "
-                      "(penalty 'Augmentation factor' x eta, the pressure carried as "
-                      "a cell multiplier updated every nonlinear iteration until the "
+                      "iteration on a mesh. iterative, velocity degree 2: the same "
+                      "penalty problem in mixed form (velocity and P1disc pressure), "
+                      "each Newton system solved by GMRES with a block-triangular "
+                      "preconditioner (one AMG V-cycle on the velocity block, the "
+                      "pressure mass scaled by the inverse viscosity): the direct "
+                      "solver's answer, in memory and time that grow about linearly. "
+                      "iterative, degree 1: the augmented-Lagrangian form (penalty "
+                      "'Augmentation factor' x eta, the pressure carried as a cell "
+                      "multiplier updated every nonlinear iteration until the "
                       "divergence ratio is below 'Divergence tolerance'), each system "
-                      "solved by AMG-preconditioned CG, or GMRES when friction slips; "
-                      "a system it cannot solve goes to the direct solver. auto: "
-                      "iterative from 'Iterative from dofs' unknowns on.");
+                      "solved by AMG-preconditioned CG, or GMRES when friction slips. "
+                      "A system the iterative method cannot solve goes to the direct "
+                      "solver. auto: iterative from 'Iterative from dofs' unknowns on.");
     prm.declare_entry("Iterative from dofs",
                       "0",
                       dealii::Patterns::Integer(0),
                       "With Method = auto: the number of unknowns from which the "
-                      "iterative solver is used. The direct solver was faster at "
-                      "every measured size (up to 458k unknowns, doc/benchmarks.md); "
-                      "this default is where its factorisation would outgrow some "
-                      "13 GB of memory (extrapolated), not a measured crossover.");
+                      "iterative solver is used; 0: the measured crossover "
+                      "(doc/benchmarks.md): 200,000 for velocity degree 2; for "
+                      "degree 1, whose augmented Lagrangian was slower at every "
+                      "measured size, 3,000,000, where the factorisation would "
+                      "outgrow some 13 GB of memory (extrapolated).");
     prm.declare_entry("Augmentation factor",
                       "1e3",
                       dealii::Patterns::Double(0),
@@ -213,7 +220,9 @@ namespace dieflow
                       "1e-6",
                       dealii::Patterns::Double(0),
                       "Iterative method: a linear solve stops when its residual is "
-                      "below this fraction of its right-hand side.");
+                      "below this fraction of its right-hand side (degree 2: the "
+                      "mixed system's, its pressure rows scaled by eta/h to force "
+                      "units). Newton's own tests decide the answer's accuracy.");
     prm.declare_entry("Divergence tolerance",
                       "1e-7",
                       dealii::Patterns::Double(0),
