@@ -205,11 +205,10 @@ namespace dieflow
                       "0",
                       dealii::Patterns::Integer(0),
                       "With Method = auto: the number of unknowns from which the "
-                      "iterative solver is used; 0: the measured crossover "
-                      "(doc/benchmarks.md): 200,000 for velocity degree 2; for "
-                      "degree 1, whose augmented Lagrangian was slower at every "
-                      "measured size, 3,000,000, where the factorisation would "
-                      "outgrow some 13 GB of memory (extrapolated).");
+                      "iterative solver is used; 0: 3,000,000. The direct solver "
+                      "was faster at every size measured for both velocity degrees "
+                      "(doc/benchmarks.md); this is where its factorisation would "
+                      "outgrow some 13 to 18 GB of memory (extrapolated).");
     prm.declare_entry("Augmentation factor",
                       "1e3",
                       dealii::Patterns::Double(0),
@@ -337,11 +336,13 @@ namespace dieflow
   std::size_t
   LinearSolver::auto_threshold(const unsigned int degree)
   {
-    // Degree 1 (augmented Lagrangian): the direct solver was faster at
-    // every measured size (to 458k unknowns); this is where its
-    // factorisation would outgrow some 13 GB (extrapolated).
-    // Degree 2 (mixed form): the measured crossover (doc/benchmarks.md).
-    return degree == 1 ? 3000000 : 200000;
+    // No crossover measured for either degree (doc/benchmarks.md): the
+    // direct solver was faster at every size both ran (degree 1 to 458k
+    // unknowns, degree 2 to 167k). This is where its factorisation outgrows
+    // some 13 GB (degree 1, extrapolated) or 18 GB (degree 2: 9.2 GB at
+    // 1.5M unknowns, measured).
+    (void)degree;
+    return 3000000;
   }
 
 

@@ -75,8 +75,8 @@ namespace dieflow
      * Whether systems of @p n_dofs unknowns of velocity degree @p degree
      * are solved iteratively: by the augmented Lagrangian for degree 1, by
      * the mixed form (SaddlePointSolver) for degree 2. With Method = auto,
-     * from 'Iterative from dofs' on, or where that is 0 from the measured
-     * crossover of the element (auto_threshold()).
+     * from 'Iterative from dofs' on, or where that is 0 from
+     * auto_threshold().
      */
     bool
     iterative_for(const unsigned int degree, const std::size_t n_dofs) const;
