@@ -37,12 +37,7 @@ namespace dieflow
      * relative to grad v.
      */
     constexpr double mixed_pressure_tolerance = 1e-10;
-  } // namespace
 
-
-
-  namespace
-  {
     unsigned int
     velocity_degree(ParameterHandler &prm)
     {
@@ -272,37 +267,36 @@ namespace dieflow
     const bool iterative = linear_solver.iterative_for(fe.degree, dof_handler.n_dofs());
     augmented            = iterative && fe.degree == 1;
     mixed_form           = iterative && fe.degree >= 2;
+    std::vector<std::vector<bool>> constant_modes;
+    if (iterative)
+      dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
     if (mixed_form)
       {
         mixed.reinit(dof_handler, hanging_node_constraints);
         if (!saddle_point_solver)
           saddle_point_solver = std::make_unique<SaddlePointSolver<dim>>();
-        std::vector<std::vector<bool>> constant_modes;
-        dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
         saddle_point_solver->set_constant_modes(constant_modes);
-        // The previous mesh's cell stress gives the first pressure (cell means).
+        // The previous mesh's cell stress gives the first pressure (cell
+        // means). Without one the pressure starts at zero, at the first
+        // assembly: q = -lambda P div v there (a velocity that only meets
+        // the boundary conditions has a divergence of order its speed over
+        // a cell, whose pressure lambda P div v would swamp the residual).
         Vector<double> pressure(mixed.n_pressure());
-        if (transferred_cell_stress.size() == triangulation.n_active_cells() && velocity.size() == dof_handler.n_dofs())
+        pressure_unset = !(transferred_cell_stress.size() == triangulation.n_active_cells() &&
+                           velocity.size() == dof_handler.n_dofs());
+        if (pressure_unset)
+          multiplier = pressure;
+        else
           {
             for (unsigned int c = 0; c < triangulation.n_active_cells(); ++c)
               pressure[c * mixed.n_modes] = transferred_cell_stress[c];
             multiplier = multiplier_for(pressure, velocity);
           }
-        else
-          multiplier = pressure;
-        // Without a previous mesh the pressure starts at zero, at the first
-        // assembly: q = -lambda P div v there (a velocity that only meets
-        // the boundary conditions has a divergence of order its speed over
-        // a cell, whose pressure lambda P div v would swamp the residual).
-        pressure_unset      = !(transferred_cell_stress.size() == triangulation.n_active_cells() &&
-                           velocity.size() == dof_handler.n_dofs());
         accepted_multiplier = multiplier;
         multiplier_update.reinit(multiplier.size());
       }
     else if (augmented)
       {
-        std::vector<std::vector<bool>> constant_modes;
-        dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
         linear_solver.set_constant_modes(constant_modes);
         // The previous mesh's cell stress is the best first multiplier.
         // Only the cell means go from mesh to mesh (the first coefficient).
@@ -537,9 +531,6 @@ namespace dieflow
         assembler.update_dual(dof_handler, next, nullptr, 0);
       }
   }
-
-
-
 
 
 
