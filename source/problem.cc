@@ -267,15 +267,12 @@ namespace dieflow
     const bool iterative = linear_solver.iterative_for(fe.degree, dof_handler.n_dofs());
     augmented            = iterative && fe.degree == 1;
     mixed_form           = iterative && fe.degree >= 2;
-    std::vector<std::vector<bool>> constant_modes;
-    if (iterative)
-      dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
     if (mixed_form)
       {
         mixed.reinit(dof_handler, hanging_node_constraints);
         if (!saddle_point_solver)
           saddle_point_solver = std::make_unique<SaddlePointSolver<dim>>();
-        saddle_point_solver->set_constant_modes(constant_modes);
+        saddle_point_solver->set_rigid_body_modes(rigid_body_modes(dof_handler));
         // The previous mesh's cell stress gives the first pressure (cell
         // means). Without one the pressure starts at zero, at the first
         // assembly: q = -lambda P div v there (a velocity that only meets
@@ -297,6 +294,8 @@ namespace dieflow
       }
     else if (augmented)
       {
+        std::vector<std::vector<bool>> constant_modes;
+        dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
         linear_solver.set_constant_modes(constant_modes);
         // The previous mesh's cell stress is the best first multiplier.
         // Only the cell means go from mesh to mesh (the first coefficient).

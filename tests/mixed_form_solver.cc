@@ -12,12 +12,17 @@
 //    Newton stops at a relative residual of about 1e-8, and both runs
 //    stop there);
 //  - die2d P1 (Norton-Hoff m = 0.2, viscosity varying by 1e4): converges,
-//    every quantity within 1e-4 (measured 2e-5). Not 1e-7: where Newton
+//    every quantity within 5e-4 (measured 1.9e-4). Not 1e-7: where Newton
 //    projects v onto a changed active set, the penalty form's pressure
 //    lambda P div v jumps by lambda P div of that move and the mixed form's
-//    carried pressure does not, so the iterations take different paths;
-//    here they end with the land's separation point one node apart (6.4 and
-//    6.6 mm separated), both within the contact tolerances;
+//    carried pressure does not, so the iterations take different paths.
+//    On the land of P1 the contact pressure is nearly zero over many nodes,
+//    so the contact tolerances (the dead band of 1e-6 of the largest nodal
+//    force) admit more than one converged active set: the runs end with 22
+//    and 29 separated nodes, and the forces differ by up to 1.9e-4 (with
+//    the AMG's constant near-null space instead of the rigid-body modes
+//    they ended one node apart, 2e-5). The bound says the two methods land
+//    on the same solution up to that ambiguity, not to round-off;
 //  - an exact solution: plane Poiseuille flow lies in the Q2 space, so the
 //    discrete solution is exact; the iterative one must be too (L2 error
 //    below 1e-8 of the unit speed, as the direct solver's test asks);
@@ -106,7 +111,7 @@ main(int argc, char **argv)
   const RunSummary p1_direct    = run(die2d(8) + p1, " set Method = direct\n");
   const RunSummary p1_iterative = run(die2d(8) + p1, " set Method = iterative\n");
   report("P1: both converge", p1_direct.converged && p1_iterative.converged);
-  report("P1: ram force, die forces and probe velocity within 1e-4", agree(p1_direct.cycles[0], p1_iterative.cycles[0], 1e-4));
+  report("P1: ram force, die forces and probe velocity within 5e-4", agree(p1_direct.cycles[0], p1_iterative.cycles[0], 5e-4));
 
   const RunSummary poiseuille = run_deck_text(
     "subsection Mesh\n set Source = box\n subsection Box\n  set Lower corner = 0, 0\n  set Upper corner = 2, 1\n"

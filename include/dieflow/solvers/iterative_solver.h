@@ -25,8 +25,9 @@ namespace dieflow
   };
 
   /// Smoothed aggregation for a velocity block (Chebyshev smoothing, two
-  /// sweeps, the components' @p constant_modes as near-null space;
-  /// @p higher_order: Q2 and up), as ASPECT sets it up.
+  /// sweeps, the components' @p constant_modes as near-null space, or
+  /// none given to initialize_with_rigid_body_modes(); @p higher_order:
+  /// Q2 and up), as ASPECT sets it up.
   dealii::TrilinosWrappers::PreconditionAMG::AdditionalData
   velocity_amg_data(const std::vector<std::vector<bool>> &constant_modes, const bool higher_order);
 

@@ -3,6 +3,7 @@
 
 #include <dieflow/flow/mixed_penalty.h>
 #include <dieflow/solvers/iterative_solver.h>
+#include <dieflow/solvers/rigid_body_modes.h>
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
@@ -19,8 +20,8 @@ namespace dieflow
    *   [ B  -C   ] [dp] = [b_p],   C = M/lambda (block diagonal),
    * by GMRES, right-preconditioned with the block upper-triangular
    *   P = [ A^  B^T ]      A^: one V-cycle of algebraic multigrid on A
-   *       [ 0  -S^  ],     (Trilinos ML, smoothed aggregation on the
-   *                         constant modes of each velocity component),
+   *       [ 0  -S^  ],     (Trilinos ML, smoothed aggregation with the
+   *                         rigid-body modes as near-null space),
    *   S^ = M (1/eta_K + 1/lambda_K) per cell,
    * the Schur complement B A^-1 B^T + C with A^-1 replaced by the inverse
    * viscosity: spectrally equivalent for the Stokes operator of an
@@ -44,9 +45,9 @@ namespace dieflow
       unsigned int iterations = 0;
     };
 
-    /// The velocity components' constant modes (DoFTools::extract_constant_modes).
+    /// The velocity's rigid-body modes (rigid_body_modes()).
     void
-    set_constant_modes(const std::vector<std::vector<bool>> &modes);
+    set_rigid_body_modes(std::vector<double> modes);
 
     /**
      * Solves from du = dp = 0 until the scaled residual is below
@@ -65,7 +66,8 @@ namespace dieflow
 
   private:
     MpiOnFirstUse                             mpi;
-    std::vector<std::vector<bool>>            constant_modes;
+    std::vector<double>                       modes;
+    dealii::TrilinosWrappers::SparseMatrix    velocity_matrix;
     dealii::TrilinosWrappers::PreconditionAMG velocity_preconditioner;
   };
 } // namespace dieflow
