@@ -20,7 +20,19 @@ namespace dieflow
     prm.declare_entry("Dimension",
                       "2",
                       Integer(2, 3),
-                      "Space dimension of the problem: 2 (plane strain) or 3.");
+                      "Space dimension of the problem: 2 (plane strain or "
+                      "axisymmetric, see Geometry) or 3.");
+    prm.declare_entry("Geometry",
+                      "plane strain",
+                      dealii::Patterns::Selection("plane strain|axisymmetric"),
+                      "What the 2D mesh is a section of. plane strain: a body of "
+                      "unit depth (forces in N/mm of depth). axisymmetric: the "
+                      "meridian half-plane of a body of revolution about the x "
+                      "axis, y the radius (y >= 0 everywhere on the mesh): round "
+                      "bars, wires, tubes, cylinders. The strain rate gains the "
+                      "hoop rate v_y/y, every integral the factor 2 pi y, and "
+                      "forces are the whole body's, in N. Boundary parts on the "
+                      "axis y = 0 must be Symmetry ids (v_y = 0 there).");
     prm.declare_entry("Output directory",
                       "output/die2d",
                       Anything(),
@@ -73,6 +85,7 @@ namespace dieflow
   RunParameters::parse_parameters(ParameterHandler &prm)
   {
     dimension        = prm.get_integer("Dimension");
+    geometry         = prm.get("Geometry") == "axisymmetric" ? Geometry::axisymmetric : Geometry::plane_strain;
     output_directory = prm.get("Output directory");
     write_vtu        = prm.get_bool("Write VTU");
     write_mesh_svg   = prm.get_bool("Write mesh SVG");

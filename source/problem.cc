@@ -150,6 +150,8 @@ namespace dieflow
                                                     prm.get("Constants"));
     prm.leave_subsection();
 
+    coordinates = CoordinateSystem<dim>(run_parameters.geometry);
+    assembler.set_coordinate_system(coordinates);
     assembler.set_tangent(nonlinear_solver.newton_tangent == "standard" ?
                             FlowAssembler<dim>::Tangent::standard :
                             FlowAssembler<dim>::Tangent::primal_dual);
@@ -170,6 +172,8 @@ namespace dieflow
       }
     make_mesh(mesh_parameters, triangulation);
     check_boundary_ids(triangulation, assigned);
+    if (coordinates.axisymmetric())
+      check_axisymmetric_mesh(triangulation, boundary_conditions.symmetry_ids);
     if (mesh_parameters.corner_refinements > 0)
       {
         std::set<BoundaryId> walls = contact_parameters.die_ids;
@@ -223,6 +227,10 @@ namespace dieflow
                 "Refinement/Indicator",
                 "'dual weighted' needs Contact/Normal enforcement = active set (its dual freezes the "
                 "contact constraints; the penalty contact is not covered)");
+        require(!coordinates.axisymmetric(),
+                "Refinement/Indicator",
+                "'dual weighted' is not available with Geometry = axisymmetric yet (its dual problem "
+                "is assembled in plane strain); use Kelly");
         require(linear_solver.method == "direct",
                 "Refinement/Indicator",
                 "'dual weighted' needs Linear solver/Method = direct (the augmented Lagrangian of the "
@@ -249,7 +257,7 @@ namespace dieflow
 
     std::set<BoundaryId> walls = boundary_conditions.wall_ids();
     walls.insert(contact_parameters.die_ids.begin(), contact_parameters.die_ids.end());
-    wall_nodes = collect_wall_nodes(dof_handler, walls, hanging_node_constraints, boundary_conditions.corner_angle);
+    wall_nodes = collect_wall_nodes(coordinates, dof_handler, walls, hanging_node_constraints, boundary_conditions.corner_angle);
     if (!contact.empty())
       {
         boundary_conditions.make_prescribed_constraints(dof_handler, prescribed_constraints);
@@ -447,7 +455,7 @@ namespace dieflow
       {
         Vector<double> move = v;
         move -= before;
-        accepted_multiplier.add(-assembler.get_penalty(), PressureProjection<dim>::project_all(dof_handler, move));
+        accepted_multiplier.add(-assembler.get_penalty(), PressureProjection<dim>::project_all(dof_handler, move, coordinates));
         multiplier = accepted_multiplier;
       }
     return changes;
@@ -574,7 +582,7 @@ namespace dieflow
   Vector<double>
   DieFlowProblem<dim>::multiplier_for(const Vector<double> &p, const Vector<double> &v) const
   {
-    const Vector<double> divergence = PressureProjection<dim>::project_all(dof_handler, v);
+    const Vector<double> divergence = PressureProjection<dim>::project_all(dof_handler, v, coordinates);
     Vector<double>       q          = p;
     q.add(-assembler.get_penalty(), divergence);
     return q;
@@ -592,7 +600,7 @@ namespace dieflow
     ones = 1.;
     mixed.mass_vmult(Mq, accepted_multiplier, ones);
     const dealii::FEValuesExtractors::Vector     velocities(0);
-    dealii::FEValues<dim>                        gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values);
+    dealii::FEValues<dim>                        gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points);
     std::vector<dealii::Tensor<2, dim>>          grad(gauss.n_quadrature_points);
     double                                       grad_squared = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -600,7 +608,7 @@ namespace dieflow
         gauss.reinit(cell);
         gauss[velocities].get_function_gradients(velocity, grad);
         for (const unsigned int q : gauss.quadrature_point_indices())
-          grad_squared += grad[q].norm_square() * gauss.JxW(q);
+          grad_squared += grad[q].norm_square() * gauss.JxW(q) * coordinates.weight(gauss.quadrature_point(q));
       }
     const double q_norm = std::sqrt(accepted_multiplier * Mq);
     return grad_squared > 0 ? q_norm / (assembler.get_penalty() * std::sqrt(grad_squared)) : q_norm;
@@ -625,11 +633,11 @@ namespace dieflow
   DieFlowProblem<dim>::update_multiplier(const Vector<double> &v)
   {
     // q_h <- q_h + r P div v, each cell's coefficients with the cell's r.
-    const Vector<double> divergence = cell_divergence(dof_handler, v);
+    const Vector<double> divergence = cell_divergence(coordinates, dof_handler, v);
     const unsigned int   n_modes    = PressureProjection<dim>::n_modes_for(fe);
     for (unsigned int i = 0; i < divergence.size(); ++i)
       multiplier[i] += cell_penalty[i / n_modes] * divergence[i];
-    last_divergence_ratio = divergence_ratio(dof_handler, v);
+    last_divergence_ratio = divergence_ratio(coordinates, dof_handler, v);
     update_cell_penalty(v);
   }
 
@@ -665,14 +673,13 @@ namespace dieflow
   Vector<double>
   DieFlowProblem<dim>::cell_viscosity(const Vector<double> &v) const
   {
-    const dealii::FEValuesExtractors::Vector velocities(0);
-    dealii::FEValues<dim> centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients);
-    std::vector<dealii::SymmetricTensor<2, dim>> D(1);
-    Vector<double> eta(triangulation.n_active_cells());
+    dealii::FEValues<dim>        centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | coordinates.flags());
+    std::vector<StrainRate<dim>> D(1);
+    Vector<double>               eta(triangulation.n_active_cells());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         centre.reinit(cell);
-        centre[velocities].get_function_symmetric_gradients(v, D);
+        coordinates.strain_rates(centre, v, D);
         eta[cell->active_cell_index()] = material.evaluate(std::sqrt(2. / 3. * (D[0] * D[0]))).eta;
       }
     return eta;
@@ -685,7 +692,8 @@ namespace dieflow
   DieFlowProblem<dim>::cell_pressures() const
   {
     ++pressure_recoveries;
-    return cell_pressure(dof_handler,
+    return cell_pressure(coordinates,
+                         dof_handler,
                          velocity,
                          assembler.get_penalty(),
                          augmented || mixed_form ? &multiplier : nullptr,
@@ -771,7 +779,7 @@ namespace dieflow
     if (mixed_form)
       {
         // p = 0 to start with (see setup_system()), with the start's lambda.
-        accepted_multiplier = PressureProjection<dim>::project_all(dof_handler, velocity);
+        accepted_multiplier = PressureProjection<dim>::project_all(dof_handler, velocity, coordinates);
         accepted_multiplier *= -start.get_penalty();
         multiplier     = accepted_multiplier;
         pressure_unset = false;
@@ -792,7 +800,7 @@ namespace dieflow
       {
         start_pressure = accepted_multiplier;
         start_pressure.add(1., multiplier_update);
-        start_pressure.add(start.get_penalty(), PressureProjection<dim>::project_all(dof_handler, velocity));
+        start_pressure.add(start.get_penalty(), PressureProjection<dim>::project_all(dof_handler, velocity, coordinates));
       }
     // The first Uzawa step uses the r this solve had.
     uniform_cell_penalty(start.get_penalty());
@@ -824,7 +832,7 @@ namespace dieflow
     dealii::TimerOutput::Scope scope(timer, "postprocess");
     summary.cells = triangulation.n_active_cells();
     summary.dofs  = dof_handler.n_dofs();
-    summary.flux  = boundary_fluxes(dof_handler, velocity);
+    summary.flux  = boundary_fluxes(coordinates, dof_handler, velocity);
 
     // Reactions of the converged state, with hanging nodes' shares moved to
     // the vertices they hang from.
@@ -835,9 +843,9 @@ namespace dieflow
     std::vector<WallShare<dim>> wall_shares;
     const auto                  frictionless = frictionless_walls();
     summary.boundary_force =
-      boundary_forces(dof_handler, reactions, boundary_conditions, wall_nodes, frictionless, &wall_shares);
-    summary.divergence_ratio = divergence_ratio(dof_handler, velocity);
-    summary.mass_balance     = mass_balance(dof_handler, velocity, summary.flux);
+      boundary_forces(coordinates, dof_handler, reactions, boundary_conditions, wall_nodes, frictionless, &wall_shares);
+    summary.divergence_ratio = divergence_ratio(coordinates, dof_handler, velocity);
+    summary.mass_balance     = mass_balance(coordinates, dof_handler, velocity, summary.flux);
     summary.penalty          = assembler.get_penalty();
     summary.mean_viscosity   = mean_viscosity;
     summary.error_estimate = kelly_estimate(dof_handler, velocity);
@@ -875,7 +883,7 @@ namespace dieflow
         const auto &results = contact_results;
         contact.summarise(results, velocity.linfty_norm(), summary);
         add_die_shares(wall_shares, frictionless, summary);
-        const auto stress = recover_profiles ? vertex_stresses(dof_handler, velocity, material, pressure) :
+        const auto stress = recover_profiles ? vertex_stresses(coordinates, dof_handler, velocity, material, pressure) :
                                                std::vector<dealii::SymmetricTensor<2, dim>>();
         contact.write_profiles(results, recover_profiles ? &stress : nullptr, run_parameters.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
@@ -910,7 +918,8 @@ namespace dieflow
       }
 
     if (write_fields_now)
-      write_fields(dof_handler,
+      write_fields(coordinates,
+                   dof_handler,
                    velocity,
                    material,
                    pressure,
@@ -1230,6 +1239,7 @@ namespace dieflow
     dealii::Timer run_timer;
     RunSummary    summary;
     summary.velocity_degree = fe.degree;
+    summary.geometry        = geometry_name(coordinates.kind());
     const std::string summary_file = run_parameters.output_directory + "/summary.json";
 
     for (unsigned int cycle = 0; cycle < refinement.cycles; ++cycle)

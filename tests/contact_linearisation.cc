@@ -56,7 +56,7 @@ namespace
     dofs.distribute_dofs(fe);
     AffineConstraints<double> hanging, prescribed, constraints, update_constraints;
     hanging.close();
-    const auto wall_nodes = collect_wall_nodes(dofs, {3, 4, 5}, hanging, 10.);
+    const auto wall_nodes = collect_wall_nodes(CoordinateSystem<2>(), dofs, {3, 4, 5}, hanging, 10.);
     bc.make_prescribed_constraints(dofs, prescribed);
 
     const double eta = 0.1, lambda = 1e7 * eta;

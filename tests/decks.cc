@@ -57,9 +57,16 @@ main()
       // The penalty's compressibility loses the flux int p / lambda dx. In
       // N1p only the penalty fixes the pressure level, some ten times the
       // other decks' (ram force 24,400 against 2,470 N/mm), and so is the loss.
-      const double flux_tolerance = deck.stem() == "die2d-N1p" ? 1e-4 : 5e-5;
+      // The round bar's ram pressure is 8 times die2d's (1,000 against 130
+      // MPa: a 16:1 reduction at four times the exit speed), and so is the
+      // loss (measured 4.1e-5).
+      const double flux_tolerance = (deck.stem() == "die2d-N1p" || deck.stem() == "roundbar") ? 1e-4 : 5e-5;
+      // A body of revolution balances its axial forces; the radial tractions
+      // of its parts balance the hoop stress, not each other (fy is not a
+      // resultant there).
+      const bool   axisymmetric = summary.geometry == "axisymmetric";
       const bool   ok = summary.converged && c.divergence_ratio < 1e-5 && std::abs(flux) < flux_tolerance * inflow &&
-                      std::abs(fx) + std::abs(fy) < 1e-7 * force_scale && c.contact_penetration < 1e-6 &&
+                      std::abs(fx) + (axisymmetric ? 0. : std::abs(fy)) < 1e-7 * force_scale && c.contact_penetration < 1e-6 &&
                       c.contact_tension < 1e-6 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8 &&
                       c.friction_power < 1e-12;
       report(deck.filename().string() + " runs and keeps its laws", ok);

@@ -1,6 +1,8 @@
 #ifndef dieflow_parameters_h
 #define dieflow_parameters_h
 
+#include <dieflow/flow/coordinate_system.h>
+
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/types.h>
 
@@ -31,6 +33,7 @@ namespace dieflow
   struct RunParameters
   {
     unsigned int dimension        = 2;
+    Geometry     geometry         = Geometry::plane_strain;
     std::string  output_directory = "output/die2d";
     bool         write_vtu        = true;
     bool         write_mesh_svg   = false;

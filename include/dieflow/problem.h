@@ -239,6 +239,7 @@ namespace dieflow
     nodal_flow_residual(const Vector<double> &v);
 
     RunParameters                              run_parameters;
+    CoordinateSystem<dim>                      coordinates;
     MeshParameters                             mesh_parameters;
     Material                                   material;
     BoundaryConditions<dim>                    boundary_conditions;

@@ -231,10 +231,11 @@ namespace dieflow
 
   template <int dim>
   double
-  ContactSet<dim>::penalty_of(const double factor, const double weight) const
+  ContactSet<dim>::penalty_of(const double factor, const WallDirection<dim> &wall) const
   {
-    const double h = std::pow(weight, 1. / (dim - 1));
-    return factor * penalty_scale * weight / h;
+    // The weight is the node's area (2 pi r h in the axisymmetric geometry), h its mesh size.
+    const double h = std::pow(wall.length, 1. / (dim - 1));
+    return factor * penalty_scale * wall.weight / h;
   }
 
 
@@ -243,7 +244,7 @@ namespace dieflow
   double
   ContactSet<dim>::contact_constant(const Direction &direction) const
   {
-    const double h = std::pow(direction.wall.weight, 1. / (dim - 1));
+    const double h = std::pow(direction.wall.length, 1. / (dim - 1));
     return parameters.active_set_constant * viscosity_scale * direction.wall.weight / h;
   }
 
@@ -278,7 +279,7 @@ namespace dieflow
   {
     FrictionLaw law             = law_of(direction.wall.id, direction.wall.weight);
     law.kind                    = direction.regularised ? FrictionLaw::Kind::regularised_coulomb : parameters.law;
-    law.tangential_penalty      = penalty_of(parameters.tangential_penalty_factor, direction.wall.weight);
+    law.tangential_penalty      = penalty_of(parameters.tangential_penalty_factor, direction.wall);
     law.regularisation_velocity = direction.regularised ? cycling_velocity : parameters.regularisation_velocity;
     return law;
   }
@@ -483,7 +484,7 @@ namespace dieflow
             if (penalty)
               {
                 active           = g_n > 0;
-                dir.normal_force = active ? -penalty_of(parameters.normal_penalty_factor, dir.wall.weight) * g_n : 0.;
+                dir.normal_force = active ? -penalty_of(parameters.normal_penalty_factor, dir.wall) * g_n : 0.;
               }
             else
               {
@@ -632,7 +633,7 @@ namespace dieflow
               continue;
             const auto r = penalty ?
                              dir.element.penalty(u,
-                                                 penalty_of(parameters.normal_penalty_factor, dir.wall.weight),
+                                                 penalty_of(parameters.normal_penalty_factor, dir.wall),
                                                  true,
                                                  law,
                                                  dir.status,
@@ -694,6 +695,7 @@ namespace dieflow
             r.normal         = dir.wall.normal;
             r.tangent        = dir.element.tangent;
             r.weight         = dir.wall.weight;
+            r.length         = dir.wall.length;
             r.status         = dir.active ? dir.status : ContactStatus::separated;
             r.normal_rate    = dir.element.normal_rate(u);
             r.slip_rate      = dir.element.tangential_rate(u);
@@ -730,7 +732,7 @@ namespace dieflow
         summary.die_friction_force[r.id] += std::abs(r.friction_force);
         summary.contact_length[r.id][r.status == ContactStatus::separated ? 0 :
                                      r.status == ContactStatus::stick     ? 1 :
-                                                                            2] += r.weight;
+                                                                            2] += r.length;
       }
     double largest_force = 0, largest_bound = 0, largest_friction = 0;
     for (const auto &r : results)

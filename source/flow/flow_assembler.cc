@@ -14,16 +14,17 @@ namespace dieflow
     template <int dim>
     struct ScratchData
     {
-      ScratchData(const dealii::FiniteElement<dim> &fe)
-        : viscous(fe,
+      ScratchData(const dealii::FiniteElement<dim> &fe, const CoordinateSystem<dim> &coordinates)
+        : coordinates(coordinates)
+        , viscous(fe,
                   dealii::QGauss<dim>(fe.degree + 1),
                   dealii::update_values | dealii::update_gradients |
                     dealii::update_JxW_values | dealii::update_quadrature_points)
-        , centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values)
+        , centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values | coordinates.flags())
         , face(fe,
                dealii::QGauss<dim - 1>(fe.degree + 1),
                dealii::update_values | dealii::update_JxW_values | dealii::update_quadrature_points)
-        , projection(fe)
+        , projection(fe, coordinates)
         , divergence_coefficients(projection.n_modes())
         , cell_stress(projection.n_modes())
         , symmetric_gradients(fe.n_dofs_per_cell())
@@ -34,16 +35,17 @@ namespace dieflow
       {}
 
       ScratchData(const ScratchData &other)
-        : ScratchData(other.viscous.get_fe())
+        : ScratchData(other.viscous.get_fe(), other.coordinates)
       {}
 
+      CoordinateSystem<dim>                             coordinates;
       dealii::FEValues<dim>                             viscous;
       dealii::FEValues<dim>                             centre;
       dealii::FEFaceValues<dim>                         face;
       PressureProjection<dim>                           projection;
       dealii::Vector<double>                            divergence_coefficients;
       dealii::Vector<double>                            cell_stress;
-      std::vector<dealii::SymmetricTensor<2, dim>>      symmetric_gradients;
+      std::vector<StrainRate<dim>>                      symmetric_gradients;
       std::vector<double>                               strain_projections;
       std::vector<double>                               dual_projections;
       std::vector<double>                               local_velocity;
@@ -121,22 +123,25 @@ namespace dieflow
                        CopyData &                    copy,
                        const bool                    with_matrix)
     {
-      const dealii::FEValuesExtractors::Vector velocities(0);
-      const unsigned int                       dofs_per_cell = copy.dofs.size();
+      const unsigned int dofs_per_cell = copy.dofs.size();
+      const auto &       coordinates   = scratch.coordinates;
       scratch.centre.reinit(cell);
-      const double JxW        = scratch.centre.JxW(0);
-      double       divergence = 0;
+      const double JxW = scratch.centre.JxW(0) * (coordinates.axisymmetric() ? coordinates.weight(scratch.centre.quadrature_point(0)) : 1.);
+      std::vector<double> &div = scratch.strain_projections;
+      double               divergence = 0;
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
-        divergence += scratch.local_velocity[i] * scratch.centre[velocities].divergence(i, 0);
+        {
+          div[i] = coordinates.divergence(scratch.centre, i, 0);
+          divergence += scratch.local_velocity[i] * div[i];
+        }
       const unsigned int c           = cell->active_cell_index();
       const double       cell_stress = lambda * divergence + (multiplier != nullptr ? (*multiplier)[c] : 0.);
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
         {
-          const double div_i = scratch.centre[velocities].divergence(i, 0);
-          copy.residual[i] += cell_stress * div_i * JxW;
+          copy.residual[i] += cell_stress * div[i] * JxW;
           if (with_matrix)
             for (unsigned int j = 0; j <= i; ++j)
-              copy.matrix(i, j) += lambda * div_i * scratch.centre[velocities].divergence(j, 0) * JxW;
+              copy.matrix(i, j) += lambda * div[i] * div[j] * JxW;
         }
     }
 
@@ -222,8 +227,7 @@ namespace dieflow
     Assert(penalty > 0, dealii::ExcMessage("The penalty has not been set."));
     const auto &       fe            = dof_handler.get_fe();
     const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
-    const dealii::FEValuesExtractors::Vector velocities(0);
-    const bool                               newton = (linearization == Linearization::newton);
+    const bool         newton        = (linearization == Linearization::newton);
     const bool use_dual = (tangent == Tangent::primal_dual) && dual.size() == n_dual_points(dof_handler);
 
     Assert(mixed == nullptr || fe.degree >= 2, dealii::ExcMessage("The mixed form needs the stable pair (degree 2)."));
@@ -255,14 +259,14 @@ namespace dieflow
       double      eta_integral = 0, volume = 0;
       for (const unsigned int q : viscous.quadrature_point_indices())
         {
-          dealii::SymmetricTensor<2, dim> D;
+          StrainRate<dim> D;
           for (unsigned int i = 0; i < dofs_per_cell; ++i)
             {
-              scratch.symmetric_gradients[i] = viscous[velocities].symmetric_gradient(i, q);
+              scratch.symmetric_gradients[i] = coordinates.strain_rate(viscous, i, q);
               D += scratch.local_velocity[i] * scratch.symmetric_gradients[i];
             }
           const auto   value = material->evaluate(std::sqrt(2. / 3. * (D * D)));
-          const double JxW   = viscous.JxW(q);
+          const double JxW   = viscous.JxW(q) * coordinates.weight(viscous.quadrature_point(q));
           eta_integral += value.eta * JxW;
           volume += JxW;
           if (body_force != nullptr)
@@ -309,7 +313,8 @@ namespace dieflow
                   traction->vector_value(scratch.face.quadrature_point(q), scratch.force);
                   for (unsigned int i = 0; i < dofs_per_cell; ++i)
                     copy.residual[i] -= scratch.force[fe.system_to_component_index(i).first] *
-                                        scratch.face.shape_value(i, q) * scratch.face.JxW(q);
+                                        scratch.face.shape_value(i, q) * scratch.face.JxW(q) *
+                                        coordinates.weight(scratch.face.quadrature_point(q));
                 }
             }
 
@@ -366,7 +371,7 @@ namespace dieflow
                             dof_handler.end(),
                             worker,
                             copier,
-                            ScratchData<dim>(fe),
+                            ScratchData<dim>(fe, coordinates),
                             CopyData());
   }
 
@@ -410,18 +415,19 @@ namespace dieflow
   {
     dealii::FEValues<dim> fe_values(dof_handler.get_fe(),
                                     dealii::QGauss<dim>(dof_handler.get_fe().degree + 1),
-                                    dealii::update_gradients | dealii::update_JxW_values);
-    const dealii::FEValuesExtractors::Vector     velocities(0);
-    std::vector<dealii::SymmetricTensor<2, dim>> D(fe_values.n_quadrature_points);
-    double                                       integral = 0, volume = 0;
+                                    dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points |
+                                      coordinates.flags());
+    std::vector<StrainRate<dim>> D(fe_values.n_quadrature_points);
+    double                       integral = 0, volume = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         fe_values.reinit(cell);
-        fe_values[velocities].get_function_symmetric_gradients(velocity, D);
+        coordinates.strain_rates(fe_values, velocity, D);
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
-            integral += material->evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).eta * fe_values.JxW(q);
-            volume += fe_values.JxW(q);
+            const double JxW = fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
+            integral += material->evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).eta * JxW;
+            volume += JxW;
           }
       }
     return integral / volume;
@@ -443,19 +449,19 @@ namespace dieflow
                                   const Vector<double> * update,
                                   const double           step)
   {
-    dealii::FEValues<dim> fe_values(dof_handler.get_fe(), dealii::QGauss<dim>(dof_handler.get_fe().degree + 1), dealii::update_gradients);
-    const dealii::FEValuesExtractors::Vector     velocities(0);
-    std::vector<dealii::SymmetricTensor<2, dim>> D(fe_values.n_quadrature_points),
-      dD(fe_values.n_quadrature_points);
+    dealii::FEValues<dim> fe_values(dof_handler.get_fe(),
+                                    dealii::QGauss<dim>(dof_handler.get_fe().degree + 1),
+                                    dealii::update_gradients | coordinates.flags());
+    std::vector<StrainRate<dim>> D(fe_values.n_quadrature_points), dD(fe_values.n_quadrature_points);
     const bool reset = (update == nullptr) || dual.size() != n_dual_points(dof_handler);
     if (reset)
       dual.resize(n_dual_points(dof_handler));
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         fe_values.reinit(cell);
-        fe_values[velocities].get_function_symmetric_gradients(velocity, D);
+        coordinates.strain_rates(fe_values, velocity, D);
         if (!reset)
-          fe_values[velocities].get_function_symmetric_gradients(*update, dD);
+          coordinates.strain_rates(fe_values, *update, dD);
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
             const double rate = material->evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).rate;

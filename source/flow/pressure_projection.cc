@@ -19,11 +19,14 @@ namespace dieflow
 
 
   template <int dim>
-  PressureProjection<dim>::PressureProjection(const dealii::FiniteElement<dim> &fe)
+  PressureProjection<dim>::PressureProjection(const dealii::FiniteElement<dim> &fe,
+                                              const CoordinateSystem<dim> &     coordinates)
     : modes(n_modes_for(fe))
+    , coordinates(coordinates)
     , fe_values(fe,
                 projection_quadrature(fe),
-                dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points)
+                dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points |
+                  coordinates.flags())
     , B(modes, fe.n_dofs_per_cell())
     , M_inverse(modes, modes)
     , M(modes, modes)
@@ -38,8 +41,7 @@ namespace dieflow
   PressureProjection<dim>::reinit(const typename dealii::DoFHandler<dim>::active_cell_iterator &cell)
   {
     fe_values.reinit(cell);
-    const dealii::FEValuesExtractors::Vector velocities(0);
-    const unsigned int                       n_dofs = fe_values.get_fe().n_dofs_per_cell();
+    const unsigned int n_dofs = fe_values.get_fe().n_dofs_per_cell();
 
     double volume = 0;
     centroid      = dealii::Point<dim>();
@@ -57,13 +59,13 @@ namespace dieflow
     for (const unsigned int q : fe_values.quadrature_point_indices())
       {
         basis(fe_values.quadrature_point(q), psi.data());
-        const double JxW = fe_values.JxW(q);
+        const double JxW = fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
         for (unsigned int m = 0; m < modes; ++m)
           {
             for (unsigned int n = 0; n < modes; ++n)
               M(m, n) += psi[m] * psi[n] * JxW;
             for (unsigned int i = 0; i < n_dofs; ++i)
-              B(m, i) += psi[m] * fe_values[velocities].divergence(i, q) * JxW;
+              B(m, i) += psi[m] * coordinates.divergence(fe_values, i, q) * JxW;
           }
       }
     M_inverse.invert(M);
@@ -145,9 +147,11 @@ namespace dieflow
 
   template <int dim>
   dealii::Vector<double>
-  PressureProjection<dim>::project_all(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity)
+  PressureProjection<dim>::project_all(const dealii::DoFHandler<dim> &dof_handler,
+                                       const dealii::Vector<double> & velocity,
+                                       const CoordinateSystem<dim> &  coordinates)
   {
-    PressureProjection<dim> projection(dof_handler.get_fe());
+    PressureProjection<dim> projection(dof_handler.get_fe(), coordinates);
     const unsigned int      n_modes = projection.n_modes();
     dealii::Vector<double>  result(dof_handler.get_triangulation().n_active_cells() * n_modes);
     dealii::Vector<double>  coefficients(n_modes);

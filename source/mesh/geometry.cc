@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 namespace dieflow
 {
@@ -501,6 +502,40 @@ namespace dieflow
                 "or Contact/Die ids");
   }
 
+  template <int dim>
+  void
+  check_axisymmetric_mesh(const Triangulation<dim> &triangulation, const std::set<BoundaryId> &symmetry_ids)
+  {
+    // Vertices of generated and Gmsh meshes on the axis have y = 0 up to round-off of the mesh size.
+    const double tolerance = 1e-10 * dealii::GridTools::diameter(triangulation);
+    for (const auto &vertex : triangulation.get_vertices())
+      if (vertex[1] < -tolerance)
+        {
+          std::ostringstream where;
+          for (unsigned int d = 0; d < dim; ++d)
+            where << (d > 0 ? ", " : "") << vertex[d];
+          throw InputError("Geometry: axisymmetric needs y >= 0 (y is the radius, x the axis), but the mesh has "
+                           "a vertex at (" + where.str() + "); move the mesh to the upper half-plane");
+        }
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        {
+          const auto face = cell->face(f);
+          if (!face->at_boundary() || symmetry_ids.count(face->boundary_id()))
+            continue;
+          bool on_axis = true;
+          for (const unsigned int v : face->vertex_indices())
+            on_axis &= std::abs(face->vertex(v)[1]) <= tolerance;
+          require(!on_axis,
+                  "Geometry",
+                  "axisymmetric: boundary id " + std::to_string(face->boundary_id()) +
+                    " lies on the axis y = 0; list it under Boundary conditions/Symmetry ids "
+                    "(v_y = 0 on the axis)");
+        }
+  }
+
+  template void
+  check_axisymmetric_mesh<2>(const Triangulation<2> &, const std::set<BoundaryId> &);
   template void
   make_mesh<2>(const MeshParameters &, Triangulation<2> &);
   template void

@@ -17,6 +17,7 @@ namespace dieflow
                       const Tensor<1, dim> &                     normal,
                       const BoundaryId                           id,
                       const double                               weight,
+                      const double                               length,
                       const std::array<dealii::Point<dim>, dim> &facet,
                       const double                               cos_corner)
     {
@@ -27,9 +28,10 @@ namespace dieflow
             Tensor<1, dim> sum = direction.normal * direction.weight + normal * weight;
             direction.normal   = sum / sum.norm();
             direction.weight += weight;
+            direction.length += length;
             return;
           }
-      directions.push_back({normal, id, weight, facet});
+      directions.push_back({normal, id, weight, length, facet});
     }
   } // namespace
 
@@ -37,7 +39,8 @@ namespace dieflow
 
   template <int dim>
   std::vector<FaceNode<dim>>
-  face_nodes(const typename DoFHandler<dim>::active_cell_iterator &cell,
+  face_nodes(const CoordinateSystem<dim> &                             coordinates,
+             const typename DoFHandler<dim>::active_cell_iterator &cell,
              const unsigned int                                    face_no,
              dealii::FEFaceValues<dim> &                           face_values)
   {
@@ -58,24 +61,30 @@ namespace dieflow
             node.dofs[d] = dofs[fe.component_to_system_index(d, index)];
           node.vertex = j < vertex_dofs_end ? cell->vertex_index(j / fe.n_dofs_per_vertex()) :
                                               dealii::numbers::invalid_unsigned_int;
-          if (fe.degree == 1)
+          if (fe.degree == 1 && !coordinates.axisymmetric())
             {
               // Exact for affine faces, as the quadrature would be, and
               // without its round-off.
               node.weight   = face->measure() / face->n_vertices();
+              node.length   = node.weight;
               node.position = cell->vertex(j / fe.n_dofs_per_vertex());
             }
           else
             {
-              node.weight = 0;
+              node.weight = node.length = 0;
               for (const unsigned int q : face_values.quadrature_point_indices())
-                node.weight += face_values.shape_value(j, q) * face_values.JxW(q);
+                {
+                  node.weight += face_values.shape_value(j, q) * face_values.JxW(q) *
+                                 coordinates.weight(face_values.quadrature_point(q));
+                  node.length += face_values.shape_value(j, q) * face_values.JxW(q);
+                }
               node.position = face_values.get_mapping().transform_unit_to_real_cell(
                 cell, fe.get_unit_support_points()[j]);
             }
           node.moment = Tensor<1, dim>();
           for (const unsigned int q : face_values.quadrature_point_indices())
-            node.moment += face_values.shape_value(j, q) * face_values.JxW(q) * face_values.quadrature_point(q);
+            node.moment += face_values.shape_value(j, q) * face_values.JxW(q) *
+                           coordinates.weight(face_values.quadrature_point(q)) * face_values.quadrature_point(q);
           nodes.push_back(node);
         }
     return nodes;
@@ -85,14 +94,15 @@ namespace dieflow
 
   template <int dim>
   std::vector<WallNode<dim>>
-  collect_wall_nodes(const DoFHandler<dim> &           dof_handler,
+  collect_wall_nodes(const CoordinateSystem<dim> &     coordinates,
+                     const DoFHandler<dim> &           dof_handler,
                      const std::set<BoundaryId> &      ids,
                      const AffineConstraints<double> & hanging_node_constraints,
                      const double                      corner_angle_degrees)
   {
     const double cos_corner = std::cos(corner_angle_degrees * dealii::numbers::PI / 180.);
     std::map<GlobalDof, WallNode<dim>> nodes; // keyed by the x-velocity dof
-    std::vector<std::tuple<GlobalDof, Tensor<1, dim>, BoundaryId, double, std::array<dealii::Point<dim>, dim>>>
+    std::vector<std::tuple<GlobalDof, Tensor<1, dim>, BoundaryId, double, double, std::array<dealii::Point<dim>, dim>>>
       hanging;
     dealii::FEFaceValues<dim> face_values(dof_handler.get_fe(),
                                           dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
@@ -110,12 +120,12 @@ namespace dieflow
             std::array<dealii::Point<dim>, dim> facet;
             for (unsigned int d = 0; d < dim; ++d)
               facet[d] = face->vertex(d);
-            for (const auto &face_node : face_nodes<dim>(cell, f, face_values))
+            for (const auto &face_node : face_nodes<dim>(coordinates, cell, f, face_values))
               {
                 const GlobalDof first = face_node.dofs[0];
                 if (hanging_node_constraints.is_constrained(first))
                   {
-                    hanging.emplace_back(first, normal, face->boundary_id(), face_node.weight, facet);
+                    hanging.emplace_back(first, normal, face->boundary_id(), face_node.weight, face_node.length, facet);
                     continue;
                   }
                 auto &node = nodes[first];
@@ -125,18 +135,20 @@ namespace dieflow
                     node.position = face_node.position;
                     node.vertex   = face_node.vertex;
                   }
-                add_to_directions<dim>(node.directions, normal, face->boundary_id(), face_node.weight, facet, cos_corner);
+                add_to_directions<dim>(
+                  node.directions, normal, face->boundary_id(), face_node.weight, face_node.length, facet, cos_corner);
               }
           }
 
     // A hanging node's share of the boundary integral belongs to the
     // nodes it hangs from (same coefficients as its constraint).
-    for (const auto &[dof, normal, id, weight, facet] : hanging)
+    for (const auto &[dof, normal, id, weight, length, facet] : hanging)
       for (const auto &[parent, coefficient] : *hanging_node_constraints.get_constraint_entries(dof))
         {
           const auto it = nodes.find(parent);
           if (it != nodes.end())
-            add_to_directions<dim>(it->second.directions, normal, id, coefficient * weight, facet, cos_corner);
+            add_to_directions<dim>(
+                it->second.directions, normal, id, coefficient * weight, coefficient * length, facet, cos_corner);
         }
 
     std::vector<WallNode<dim>> result;
@@ -210,9 +222,9 @@ namespace dieflow
   }
 
   template std::vector<FaceNode<2>>
-  face_nodes<2>(const DoFHandler<2>::active_cell_iterator &, const unsigned int, dealii::FEFaceValues<2> &);
+  face_nodes<2>(const CoordinateSystem<2> &, const DoFHandler<2>::active_cell_iterator &, const unsigned int, dealii::FEFaceValues<2> &);
   template std::vector<WallNode<2>>
-  collect_wall_nodes<2>(const DoFHandler<2> &, const std::set<BoundaryId> &, const AffineConstraints<double> &, const double);
+  collect_wall_nodes<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const std::set<BoundaryId> &, const AffineConstraints<double> &, const double);
   template void
   constrain_normal_components<2>(const std::array<GlobalDof, 2> &, const std::vector<Tensor<1, 2>> &, const std::vector<double> &, AffineConstraints<double> &);
 } // namespace dieflow

@@ -181,7 +181,9 @@ namespace dieflow
     // of the nearest node of the solution's space, as on a refined mesh.
     std::set<BoundaryId> walls = boundary_conditions.wall_ids();
     walls.insert(die_ids.begin(), die_ids.end());
-    const auto dual_wall_nodes = collect_wall_nodes(dual_dofs, walls, dual_hanging, boundary_conditions.corner_angle);
+    Assert(!assembler.coordinate_system().axisymmetric(),
+           dealii::ExcMessage("The dual problem is assembled in plane strain."));
+    const auto dual_wall_nodes = collect_wall_nodes(assembler.coordinate_system(), dual_dofs, walls, dual_hanging, boundary_conditions.corner_angle);
     ContactSet<dim> dual_contact = contact;
     if (!contact.empty())
       {

@@ -11,7 +11,10 @@ namespace dieflow
 {
   template <int dim>
   MassBalance
-  mass_balance(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity, const std::map<BoundaryId, double> &flux)
+  mass_balance(const CoordinateSystem<dim> &       coordinates,
+               const DoFHandler<dim> &             dof_handler,
+               const Vector<double> &              velocity,
+               const std::map<BoundaryId, double> &flux)
   {
     double inflow = 0, outflow = 0, net = 0;
     for (const auto &[id, q] : flux)
@@ -28,17 +31,17 @@ namespace dieflow
     // points of degree + 1 integrate it exactly on parallelograms.
     const auto &                             fe = dof_handler.get_fe();
     dealii::FEValues<dim>                    values(fe, dealii::QGauss<dim>(fe.degree + 1),
-                                 dealii::update_gradients | dealii::update_JxW_values);
-    const dealii::FEValuesExtractors::Vector velocities(0);
-    std::vector<double>                      divergence(values.n_quadrature_points);
+                                 dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points |
+                                   coordinates.flags());
+    std::vector<StrainRate<dim>>             D(values.n_quadrature_points);
     double                                   volume_change = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         values.reinit(cell);
-        values[velocities].get_function_divergences(velocity, divergence);
+        coordinates.strain_rates(values, velocity, D);
         double change = 0;
         for (const unsigned int q : values.quadrature_point_indices())
-          change += divergence[q] * values.JxW(q);
+          change += D[q].trace() * values.JxW(q) * coordinates.weight(values.quadrature_point(q));
         volume_change += std::abs(change);
       }
     balance.loss          = std::abs(net) / balance.reference_flux;
@@ -91,5 +94,5 @@ namespace dieflow
 
 
   template MassBalance
-  mass_balance<2>(const DoFHandler<2> &, const Vector<double> &, const std::map<BoundaryId, double> &);
+  mass_balance<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const std::map<BoundaryId, double> &);
 } // namespace dieflow

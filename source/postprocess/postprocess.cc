@@ -18,7 +18,7 @@ namespace dieflow
 {
   template <int dim>
   std::map<BoundaryId, double>
-  boundary_fluxes(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
+  boundary_fluxes(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
     std::map<BoundaryId, double> flux;
     for (const auto id : dof_handler.get_triangulation().get_boundary_ids())
@@ -27,7 +27,7 @@ namespace dieflow
     dealii::FEFaceValues<dim> fe_face(dof_handler.get_fe(),
                                       dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
                                       dealii::update_values | dealii::update_normal_vectors |
-                                        dealii::update_JxW_values);
+                                        dealii::update_JxW_values | dealii::update_quadrature_points);
     const dealii::FEValuesExtractors::Vector velocities(0);
     std::vector<Tensor<1, dim>>              v(fe_face.n_quadrature_points);
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -38,7 +38,7 @@ namespace dieflow
             fe_face[velocities].get_function_values(velocity, v);
             double sum = 0;
             for (const unsigned int q : fe_face.quadrature_point_indices())
-              sum += v[q] * fe_face.normal_vector(q) * fe_face.JxW(q);
+              sum += v[q] * fe_face.normal_vector(q) * fe_face.JxW(q) * coordinates.weight(fe_face.quadrature_point(q));
             flux[cell->face(f)->boundary_id()] += sum;
           }
     return flux;
@@ -74,10 +74,64 @@ namespace dieflow
       return boundary_conditions.traction_free_ids.count(id) || boundary_conditions.traction_ids.count(id);
     }
 
+    /// Whether part @p id prescribes velocity component @p d.
+    template <int dim>
+    bool
+    prescribes(const BoundaryConditions<dim> &boundary_conditions, const BoundaryId id, const unsigned int d)
+    {
+      if (!boundary_conditions.velocity_ids.count(id))
+        return false;
+      const auto mask = boundary_conditions.velocity_components.find(id);
+      return mask == boundary_conditions.velocity_components.end() || mask->second[d];
+    }
+
+    /**
+     * Shares @p reaction among the prescribed-velocity parts of @p node by
+     * weight, each component among the parts that prescribe it: a part
+     * whose x-velocity is free (Components = y) exerts no x-force, so at a
+     * node it shares with a part that holds x, the x-reaction is the
+     * other's. A component no part prescribes (round-off) goes to all.
+     */
+    template <int dim>
+    void
+    share_among_prescribed(const NodeParts<dim> &                     node,
+                           const Tensor<1, dim> &                     reaction,
+                           const BoundaryConditions<dim> &            boundary_conditions,
+                           std::map<BoundaryId, std::vector<double>> &force)
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          double       total = 0, all = 0;
+          unsigned int count = 0, all_count = 0;
+          for (const auto &[id, w] : node.weight)
+            if (boundary_conditions.velocity_ids.count(id))
+              {
+                all += w;
+                ++all_count;
+                if (prescribes(boundary_conditions, id, d))
+                  {
+                    total += w;
+                    ++count;
+                  }
+              }
+          const bool by_component = count > 0;
+          if (!by_component)
+            {
+              total = all;
+              count = all_count;
+            }
+          for (const auto &[id, w] : node.weight)
+            if (by_component ? prescribes(boundary_conditions, id, d) : boundary_conditions.velocity_ids.count(id) > 0)
+              // Weights can vanish (a degree-2 vertex on the axis): equal shares then.
+              force[id][d] += (total != 0 ? w / total : 1. / count) * reaction[d];
+        }
+    }
+
     /// int t ds on each prescribed-traction part.
     template <int dim>
     void
-    add_prescribed_tractions(const DoFHandler<dim> &                    dof_handler,
+    add_prescribed_tractions(const CoordinateSystem<dim> &              coordinates,
+                             const DoFHandler<dim> &                    dof_handler,
                              const BoundaryConditions<dim> &            boundary_conditions,
                              std::map<BoundaryId, std::vector<double>> &force)
     {
@@ -96,7 +150,8 @@ namespace dieflow
                 {
                   boundary_conditions.traction->vector_value(face_values.quadrature_point(q), t);
                   for (unsigned int d = 0; d < dim; ++d)
-                    force[cell->face(f)->boundary_id()][d] += t[d] * face_values.JxW(q);
+                    force[cell->face(f)->boundary_id()][d] +=
+                      t[d] * face_values.JxW(q) * coordinates.weight(face_values.quadrature_point(q));
                 }
             }
     }
@@ -144,14 +199,15 @@ namespace dieflow
     split_at_prescribed_part(const NodeParts<dim> &                                       node,
                              const Tensor<1, dim> &                                       reaction,
                              const std::map<BoundaryId, std::vector<TractionSample<dim>>> &samples,
-                             const std::set<BoundaryId> &                                 prescribed_ids,
+                             const BoundaryConditions<dim> &                              boundary_conditions,
                              const std::set<BoundaryId> &                                 frictionless_ids,
                              const WallNode<dim> *                                        wall_node,
                              const unsigned int                                           n_samples,
                              std::map<BoundaryId, std::vector<double>> &                  force,
                              std::vector<WallShare<dim>> *                                wall_shares)
     {
-      double prescribed_weight = 0;
+      const std::set<BoundaryId> &prescribed_ids    = boundary_conditions.velocity_ids;
+      double                      prescribed_weight = 0;
       for (const auto &[id, w] : node.weight)
         if (prescribed_ids.count(id))
           prescribed_weight += w;
@@ -161,7 +217,9 @@ namespace dieflow
       std::vector<WallShare<dim>> shares;
       for (const auto &[id, w] : node.weight)
         {
-          if (prescribed_ids.count(id))
+          // A part over which the node's basis function integrates to zero
+          // (a degree-2 vertex on the axis of an axisymmetric body) takes nothing.
+          if (prescribed_ids.count(id) || w == 0)
             continue;
           const auto found = samples.find(id);
           if (found == samples.end() || found->second.size() < 2)
@@ -208,10 +266,7 @@ namespace dieflow
           if (wall_shares != nullptr)
             wall_shares->push_back(share);
         }
-      for (const auto &[id, w] : node.weight)
-        if (prescribed_ids.count(id))
-          for (unsigned int d = 0; d < dim; ++d)
-            force[id][d] += w / prescribed_weight * rest[d];
+      share_among_prescribed(node, rest, boundary_conditions, force);
       return true;
     }
   } // namespace
@@ -220,7 +275,8 @@ namespace dieflow
 
   template <int dim>
   std::map<BoundaryId, std::vector<double>>
-  boundary_forces(const DoFHandler<dim> &           dof_handler,
+  boundary_forces(const CoordinateSystem<dim> &     coordinates,
+                  const DoFHandler<dim> &           dof_handler,
                   const Vector<double> &            reactions,
                   const BoundaryConditions<dim> &   boundary_conditions,
                   const std::vector<WallNode<dim>> &wall_nodes,
@@ -235,6 +291,8 @@ namespace dieflow
     // integral of the node's basis function over each part's faces (weight)
     // and its first moment. Traction-free and prescribed-traction parts
     // carry what is prescribed (their nodes' reactions vanish), added below.
+    // The axis of an axisymmetric body has no area: it carries nothing
+    // (its nodes' radial reactions are discretisation residue, not force).
     std::map<GlobalDof, NodeParts<dim>> nodes;
     dealii::FEFaceValues<dim>           face_values(dof_handler.get_fe(),
                                           dealii::QGauss<dim - 1>(dof_handler.get_fe().degree + 1),
@@ -242,15 +300,16 @@ namespace dieflow
                                             dealii::update_quadrature_points);
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
-        if (cell->face(f)->at_boundary() && !carries_prescribed_traction(boundary_conditions, cell->face(f)->boundary_id()))
-          for (const auto &face_node : face_nodes<dim>(cell, f, face_values))
+        if (cell->face(f)->at_boundary() && !carries_prescribed_traction(boundary_conditions, cell->face(f)->boundary_id()) &&
+            !coordinates.on_axis(cell->face(f)))
+          for (const auto &face_node : face_nodes<dim>(coordinates, cell, f, face_values))
             {
               auto &node = nodes[face_node.dofs[0]];
               node.dofs  = face_node.dofs;
               node.weight[cell->face(f)->boundary_id()] += face_node.weight;
               node.moment[cell->face(f)->boundary_id()] += face_node.moment;
             }
-    add_prescribed_tractions(dof_handler, boundary_conditions, force);
+    add_prescribed_tractions(coordinates, dof_handler, boundary_conditions, force);
 
     std::map<GlobalDof, const WallNode<dim> *> wall_node_of;
     for (const auto &node : wall_nodes)
@@ -267,7 +326,7 @@ namespace dieflow
         if (split_at_prescribed_part(node,
                                      reaction,
                                      samples,
-                                     boundary_conditions.velocity_ids,
+                                     boundary_conditions,
                                      frictionless_ids,
                                      wall == wall_node_of.end() ? nullptr : wall->second,
                                      dof_handler.get_fe().degree + 1,
@@ -282,11 +341,11 @@ namespace dieflow
             prescribed_weight += w;
         if (prescribed_weight > 0 || node.weight.size() == 1)
           {
-            const double total = prescribed_weight > 0 ? prescribed_weight : node.weight.begin()->second;
-            for (const auto &[id, w] : node.weight)
-              if (prescribed_weight == 0 || boundary_conditions.velocity_ids.count(id))
-                for (unsigned int d = 0; d < dim; ++d)
-                  force[id][d] += w / total * reaction[d];
+            if (prescribed_weight > 0)
+              share_among_prescribed(node, reaction, boundary_conditions, force);
+            else // one part takes the whole reaction, even where its weight vanishes
+              for (unsigned int d = 0; d < dim; ++d)
+                force[node.weight.begin()->first][d] += reaction[d];
             continue;
           }
 
@@ -337,12 +396,12 @@ namespace dieflow
 
   template <int dim>
   double
-  divergence_ratio(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
+  divergence_ratio(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
     const dealii::FEValuesExtractors::Vector velocities(0);
     const auto &                             fe = dof_handler.get_fe();
-    dealii::FEValues<dim> gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values);
-    PressureProjection<dim>     projection(fe);
+    dealii::FEValues<dim> gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points);
+    PressureProjection<dim>     projection(fe, coordinates);
     Vector<double>              coefficients(projection.n_modes());
     std::vector<Tensor<2, dim>> grad(gauss.n_quadrature_points);
     double                      div_squared = 0, grad_squared = 0;
@@ -354,7 +413,7 @@ namespace dieflow
         gauss.reinit(cell);
         gauss[velocities].get_function_gradients(velocity, grad);
         for (const unsigned int q : gauss.quadrature_point_indices())
-          grad_squared += grad[q].norm_square() * gauss.JxW(q);
+          grad_squared += grad[q].norm_square() * gauss.JxW(q) * coordinates.weight(gauss.quadrature_point(q));
       }
     return grad_squared > 0 ? std::sqrt(div_squared / grad_squared) : 0.;
   }
@@ -384,19 +443,18 @@ namespace dieflow
 
   template <int dim>
   Vector<double>
-  cell_divergence(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
+  cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
     if (dof_handler.get_fe().degree > 1)
-      return PressureProjection<dim>::project_all(dof_handler, velocity);
-    const dealii::FEValuesExtractors::Vector velocities(0);
-    dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients);
-    std::vector<double>   div(1);
-    Vector<double>        divergence(dof_handler.get_triangulation().n_active_cells());
+      return PressureProjection<dim>::project_all(dof_handler, velocity, coordinates);
+    dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients | coordinates.flags());
+    std::vector<StrainRate<dim>> D(1);
+    Vector<double>               divergence(dof_handler.get_triangulation().n_active_cells());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         centre.reinit(cell);
-        centre[velocities].get_function_divergences(velocity, div);
-        divergence[cell->active_cell_index()] = div[0];
+        coordinates.strain_rates(centre, velocity, D);
+        divergence[cell->active_cell_index()] = D[0].trace();
       }
     return divergence;
   }
@@ -405,13 +463,14 @@ namespace dieflow
 
   template <int dim>
   Vector<double>
-  cell_pressure(const DoFHandler<dim> &dof_handler,
+  cell_pressure(const CoordinateSystem<dim> &coordinates,
+                const DoFHandler<dim> &dof_handler,
                 const Vector<double> & velocity,
                 const double           penalty,
                 const Vector<double> * multiplier,
                 const Vector<double> * cell_penalty)
   {
-    Vector<double>     pressure = cell_divergence(dof_handler, velocity);
+    Vector<double>     pressure = cell_divergence(coordinates, dof_handler, velocity);
     const unsigned int n_modes  = pressure.size() / dof_handler.get_triangulation().n_active_cells();
     if (cell_penalty != nullptr)
       for (unsigned int i = 0; i < pressure.size(); ++i)
@@ -434,8 +493,9 @@ namespace dieflow
     class MaterialFields : public dealii::DataPostprocessor<dim>
     {
     public:
-      explicit MaterialFields(const Material &material)
+      MaterialFields(const Material &material, const CoordinateSystem<dim> &coordinates)
         : material(material)
+        , coordinates(coordinates)
       {}
 
       void
@@ -447,7 +507,10 @@ namespace dieflow
             Tensor<2, dim> grad;
             for (unsigned int d = 0; d < dim; ++d)
               grad[d] = inputs.solution_gradients[q][d];
-            const auto   D     = dealii::symmetrize(grad);
+            StrainRate<dim> D;
+            D.in_plane = dealii::symmetrize(grad);
+            if (coordinates.axisymmetric())
+              D.hoop = hoop_rate(inputs.evaluation_points[q], inputs.solution_values[q][1], grad[1][1]);
             const double rate  = std::sqrt(2. / 3. * (D * D));
             const double eta   = material.evaluate(rate).eta;
             computed[q][0]     = rate;
@@ -465,11 +528,12 @@ namespace dieflow
       dealii::UpdateFlags
       get_needed_update_flags() const override
       {
-        return dealii::update_gradients;
+        return dealii::update_gradients | dealii::update_values | dealii::update_quadrature_points;
       }
 
     private:
-      const Material &material;
+      const Material &             material;
+      const CoordinateSystem<dim> &coordinates;
     };
 
     /// Values per vertex of the triangulation as a Q1 field.
@@ -489,7 +553,8 @@ namespace dieflow
 
   template <int dim>
   void
-  write_fields(const DoFHandler<dim> &                         dof_handler,
+  write_fields(const CoordinateSystem<dim> &                    coordinates,
+            const DoFHandler<dim> &                         dof_handler,
             const Vector<double> &                          velocity,
             const Material &                                material,
             const Vector<double> &                          p_cell,
@@ -518,7 +583,7 @@ namespace dieflow
     const std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation> interpretation(
       dim, dealii::DataComponentInterpretation::component_is_part_of_vector);
     data_out.add_data_vector(velocity, names, dealii::DataOut<dim>::type_dof_data, interpretation);
-    const MaterialFields<dim> material_fields(material);
+    const MaterialFields<dim> material_fields(material, coordinates);
     data_out.add_data_vector(velocity, material_fields);
     data_out.add_data_vector(scalar_dofs, p_nodal, "pressure");
     std::vector<Vector<double>> extra;
@@ -551,21 +616,21 @@ namespace dieflow
   }
 
   template std::map<BoundaryId, double>
-  boundary_fluxes<2>(const DoFHandler<2> &, const Vector<double> &);
+  boundary_fluxes<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
   template std::map<BoundaryId, std::vector<double>>
-  boundary_forces<2>(const DoFHandler<2> &, const Vector<double> &, const BoundaryConditions<2> &, const std::vector<WallNode<2>> &,
+  boundary_forces<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const BoundaryConditions<2> &, const std::vector<WallNode<2>> &,
                      const std::set<BoundaryId> &, std::vector<WallShare<2>> *);
   template double
-  divergence_ratio<2>(const DoFHandler<2> &, const Vector<double> &);
+  divergence_ratio<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
   template std::pair<double, double>
   velocity_errors<2>(const DoFHandler<2> &, const Vector<double> &, const dealii::Function<2> &);
   template Vector<double>
-  cell_pressure<2>(const DoFHandler<2> &, const Vector<double> &, const double, const Vector<double> *,
+  cell_pressure<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const double, const Vector<double> *,
                    const Vector<double> *);
   template Vector<double>
-  cell_divergence<2>(const DoFHandler<2> &, const Vector<double> &);
+  cell_divergence<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
   template void
-  write_fields<2>(const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &,
+  write_fields<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &,
                   const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
                   const bool, const bool, std::vector<std::pair<double, std::string>> &);
 } // namespace dieflow

@@ -81,17 +81,19 @@ namespace dieflow
              << (value != 0 ? 100 * e->second.estimate / std::abs(value) : 0.) << " %)";
       return text.str();
     };
+    // Plane strain: per mm of depth; axisymmetric: the whole body of revolution.
+    const std::string force_unit = summary.geometry == "axisymmetric" ? "N" : "N/mm";
     out << "result (cycle " << last.cycle << ", " << last.dofs << " dofs, velocity degree " << summary.velocity_degree
-        << "):\n";
+        << (summary.geometry == "axisymmetric" ? ", axisymmetric" : "") << "):\n";
     for (const auto &[name, value] : last.quantities)
       if (name.rfind("F_x[", 0) == 0)
         out << "  force on prescribed-velocity part " << name.substr(4, name.size() - 5) << ", " << name << " = "
-            << quantity(name, "N/mm") << '\n';
+            << quantity(name, force_unit) << '\n';
     for (const auto &[id, length] : last.contact_length)
       {
         const std::string i = std::to_string(id);
-        out << "  die id " << i << ": normal force F_n[" << i << "] = " << quantity("F_n[" + i + "]", "N/mm")
-            << "\n            friction force F_t[" << i << "] = " << quantity("F_t[" + i + "]", "N/mm")
+        out << "  die id " << i << ": normal force F_n[" << i << "] = " << quantity("F_n[" + i + "]", force_unit)
+            << "\n            friction force F_t[" << i << "] = " << quantity("F_t[" + i + "]", force_unit)
             << "\n            separated " << std::setprecision(4) << length[0] << " mm, stick " << length[1]
             << " mm, slip " << length[2] << " mm\n";
       }
@@ -119,7 +121,8 @@ namespace dieflow
         << "  \"converged\": " << (summary.converged ? "true" : "false") << ",\n"
         << "  \"interrupted\": " << (summary.interrupted ? "true" : "false") << ",\n"
         << "  \"wall_time\": " << number(summary.wall_time) << ",\n"
-        << "  \"velocity_degree\": " << summary.velocity_degree << ",\n";
+        << "  \"velocity_degree\": " << summary.velocity_degree << ",\n"
+        << "  \"geometry\": \"" << summary.geometry << "\",\n";
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
         << "  \"stage_wall_time\": {";
     for (auto it = summary.stage_wall_time.begin(); it != summary.stage_wall_time.end(); ++it)

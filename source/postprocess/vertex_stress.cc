@@ -38,17 +38,25 @@ namespace dieflow
     /// cell), p from the cell's pressure coefficients.
     template <int dim>
     std::vector<SymmetricTensor<2, dim>>
-    cell_stresses(const dealii::FEValues<dim> &   fe_values,
+    cell_stresses(const CoordinateSystem<dim> &   coordinates,
+                  const dealii::FEValues<dim> &   fe_values,
                   const Vector<double> &          velocity,
                   const Material &                material,
                   const PressureProjection<dim> & projection,
                   const double *                  coefficients)
     {
-      std::vector<SymmetricTensor<2, dim>> D(fe_values.n_quadrature_points), sigma(D.size());
-      fe_values[dealii::FEValuesExtractors::Vector(0)].get_function_symmetric_gradients(velocity, D);
+      const dealii::FEValuesExtractors::Vector velocities(0);
+      std::vector<SymmetricTensor<2, dim>>     D(fe_values.n_quadrature_points), sigma(D.size());
+      std::vector<dealii::Tensor<1, dim>>      v(D.size());
+      fe_values[velocities].get_function_symmetric_gradients(velocity, D);
+      if (coordinates.axisymmetric())
+        fe_values[velocities].get_function_values(velocity, v);
       for (unsigned int q = 0; q < D.size(); ++q)
         {
-          const double eta = material.evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).eta;
+          // The points are vertices, some on the axis: the hoop rate's limit there.
+          const double hoop =
+            coordinates.axisymmetric() ? hoop_rate(fe_values.quadrature_point(q), v[q][1], D[q][1][1]) : 0.;
+          const double eta = material.evaluate(std::sqrt(2. / 3. * (D[q] * D[q] + hoop * hoop))).eta;
           const double p   = projection.n_modes() > 1 ? projection.value(coefficients, fe_values.quadrature_point(q)) :
                                                         coefficients[0];
           sigma[q] = 2 * eta * D[q] - p * dealii::unit_symmetric_tensor<dim>();
@@ -80,7 +88,8 @@ namespace dieflow
 
   template <int dim>
   std::vector<SymmetricTensor<2, dim>>
-  vertex_stresses(const DoFHandler<dim> &dof_handler,
+  vertex_stresses(const CoordinateSystem<dim> &coordinates,
+                  const DoFHandler<dim> &dof_handler,
                   const Vector<double> & velocity,
                   const Material &       material,
                   const Vector<double> & cell_pressure)
@@ -91,12 +100,12 @@ namespace dieflow
     // deal.II's vertex order.
     dealii::FEValues<dim> fe_values(dof_handler.get_fe(),
                                     dealii::QTrapezoid<dim>(),
-                                    dealii::update_gradients | dealii::update_quadrature_points);
+                                    dealii::update_gradients | dealii::update_quadrature_points | coordinates.flags());
     return area_weighted<dim, SymmetricTensor<2, dim>>(dof_handler, [&](const auto &cell) {
       fe_values.reinit(cell);
       if (n_modes > 1)
         projection.reinit(cell);
-      return cell_stresses(fe_values, velocity, material, projection,
+      return cell_stresses(coordinates, fe_values, velocity, material, projection,
                            cell_pressure.begin() + cell->active_cell_index() * n_modes);
     });
   }
@@ -104,7 +113,7 @@ namespace dieflow
 
 
   template std::vector<SymmetricTensor<2, 2>>
-  vertex_stresses<2>(const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &);
+  vertex_stresses<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &);
   template std::vector<double>
   vertex_pressures<2>(const DoFHandler<2> &, const Vector<double> &);
 } // namespace dieflow

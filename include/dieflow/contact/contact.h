@@ -75,7 +75,8 @@ namespace dieflow
     Tensor<1, dim>     normal;
     /// The direction of F_t and v.t.
     Tensor<1, dim>     tangent;
-    double             weight;
+    /// The node's boundary weight (int phi dA) and its share of the wall's arc length (int phi ds).
+    double             weight, length;
     ContactStatus      status;
     /// F_n (<= 0 pressing) and F_t, nodal forces; v.n and v.t.
     double normal_force, friction_force, normal_rate, slip_rate;
@@ -288,9 +289,9 @@ namespace dieflow
     /// constant) x eta_m x w / h.
     double
     contact_constant(const Direction &direction) const;
-    /// omega per node: factor x lambda x w / h, h = w^(1/(dim-1)).
+    /// omega per node: factor x lambda x w / h, h = (the node's wall length)^(1/(dim-1)).
     double
-    penalty_of(const double factor, const double weight) const;
+    penalty_of(const double factor, const WallDirection<dim> &wall) const;
     typename ContactElement<dim>::Vector
     element_velocity(const Node &node, const dealii::Vector<double> &v) const;
     /// True for a node that one wall holds and that sticks to it exactly.

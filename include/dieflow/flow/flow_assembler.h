@@ -1,6 +1,7 @@
 #ifndef dieflow_flow_assembler_h
 #define dieflow_flow_assembler_h
 
+#include <dieflow/flow/coordinate_system.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/flow/mixed_penalty.h>
 
@@ -55,6 +56,11 @@ namespace dieflow
    *             + (4/3) (d eta/d epsdot) / epsdot_reg (D(v):D(dv)) (D(v):D(w))
    *             + lambda div dv div w,
    * symmetric (the problem minimises a convex dissipation potential).
+   *
+   * In the axisymmetric geometry (set_coordinate_system()) D is the
+   * StrainRate with the hoop rate v_r/r, div v gains v_r/r, and dx, ds
+   * carry the factor 2 pi r (CoordinateSystem), so R is the virtual power
+   * of the body of revolution.
    */
   template <int dim>
   class FlowAssembler
@@ -98,6 +104,17 @@ namespace dieflow
     FlowAssembler(const Material &material, const dealii::Function<dim> *body_force);
 
     void
+    set_coordinate_system(const CoordinateSystem<dim> &c)
+    {
+      coordinates = c;
+    }
+    const CoordinateSystem<dim> &
+    coordinate_system() const
+    {
+      return coordinates;
+    }
+
+    void
     set_body_force(const dealii::Function<dim> *f)
     {
       body_force = f;
@@ -110,10 +127,11 @@ namespace dieflow
       traction     = t;
       traction_ids = ids;
     }
-    /// Copies the loads (body force, traction) of @p other.
+    /// Copies the loads (body force, traction) and the coordinate system of @p other.
     void
     copy_loads(const FlowAssembler &other)
     {
+      coordinates  = other.coordinates;
       body_force   = other.body_force;
       traction     = other.traction;
       traction_ids = other.traction_ids;
@@ -201,8 +219,9 @@ namespace dieflow
     n_dual_points(const DoFHandler<dim> &dof_handler) const;
 
     const Material *             material;
+    CoordinateSystem<dim>        coordinates;
     Tangent                      tangent = Tangent::primal_dual;
-    std::vector<dealii::SymmetricTensor<2, dim>> dual;
+    std::vector<StrainRate<dim>> dual;
     const dealii::Function<dim> *body_force;
     const dealii::Function<dim> *traction = nullptr;
     std::set<dealii::types::boundary_id> traction_ids;

@@ -1,6 +1,8 @@
 #ifndef dieflow_pressure_projection_h
 #define dieflow_pressure_projection_h
 
+#include <dieflow/flow/coordinate_system.h>
+
 #include <deal.II/base/point.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -31,15 +33,21 @@ namespace dieflow
    * that are not parallelograms (Arnold, Boffi, Falk, Math. Comp. 71
    * (2002) 909), and die2d's cells are trapezoids. With psi_1.. of zero
    * mean, the first coefficient is the cell mean.
+   *
+   * Axisymmetric geometry (CoordinateSystem): dx becomes 2 pi r dx dr in
+   * B_K and M_K and div v gains v_r / r, so P is the L2 projection in the
+   * weighted space and lambda B^T M^-1 B the penalty of the body of
+   * revolution; the basis, its centroid and h_K stay those of the section.
    */
   template <int dim>
   class PressureProjection
   {
   public:
-    explicit PressureProjection(const dealii::FiniteElement<dim> &fe);
+    explicit PressureProjection(const dealii::FiniteElement<dim> &fe,
+                                const CoordinateSystem<dim> &     coordinates = CoordinateSystem<dim>());
 
     PressureProjection(const PressureProjection &other)
-      : PressureProjection(other.fe_values.get_fe())
+      : PressureProjection(other.fe_values.get_fe(), other.coordinates)
     {}
 
     /// Coefficients per cell: 1 (degree 1), dim + 1 (degree 2), or the
@@ -111,7 +119,9 @@ namespace dieflow
 
     /// The coefficients of P div v on every active cell, cell after cell.
     static dealii::Vector<double>
-    project_all(const dealii::DoFHandler<dim> &dof_handler, const dealii::Vector<double> &velocity);
+    project_all(const dealii::DoFHandler<dim> &dof_handler,
+                const dealii::Vector<double> & velocity,
+                const CoordinateSystem<dim> &  coordinates);
 
   private:
     static constexpr unsigned int max_modes = (dim + 1) * (dim + 2) / 2;
@@ -120,6 +130,7 @@ namespace dieflow
     basis(const dealii::Point<dim> &x, double *psi) const;
 
     unsigned int               modes;
+    CoordinateSystem<dim>      coordinates;
     dealii::FEValues<dim>      fe_values;
     dealii::FullMatrix<double> B;
     dealii::FullMatrix<double> M_inverse;

@@ -113,6 +113,17 @@ namespace dieflow
   void
   check_boundary_ids(const Triangulation<dim> &                   triangulation,
                      const std::map<BoundaryId, std::string> &assigned);
+
+  /**
+   * The axisymmetric geometry's conditions on the mesh: y (the radius) is
+   * nowhere negative, and every boundary face on the axis y = 0 belongs to
+   * one of @p symmetry_ids (v_r = 0 there, without which the hoop rate
+   * v_r / r and the weak form are unbounded). An InputError naming
+   * Geometry otherwise.
+   */
+  template <int dim>
+  void
+  check_axisymmetric_mesh(const Triangulation<dim> &triangulation, const std::set<BoundaryId> &symmetry_ids);
 } // namespace dieflow
 
 #endif

@@ -3,6 +3,8 @@
 
 #include <dieflow/parameters.h>
 
+#include <dieflow/flow/coordinate_system.h>
+
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -23,7 +25,10 @@ namespace dieflow
   /**
    * One facet direction at a wall node: the outward unit normal of the wall
    * facets that share it, their boundary id, and the lumped boundary weight
-   * w = integral of the node's basis function over those facets.
+   * w = integral of the node's basis function over those facets (with the
+   * geometry's measure: 2 pi r ds in the axisymmetric one), and its length
+   * (the same integral over ds: the node's share of the wall's arc
+   * length, its mesh size; equal to w in plane strain).
    */
   template <int dim>
   struct WallDirection
@@ -31,6 +36,7 @@ namespace dieflow
     Tensor<1, dim> normal;
     BoundaryId     id;
     double         weight;
+    double         length;
     /// The vertices of one wall facet with this normal at the node: the
     /// master segment (facet) of the node's contact element.
     std::array<dealii::Point<dim>, dim> facet;
@@ -69,6 +75,8 @@ namespace dieflow
     std::array<GlobalDof, dim> dofs;
     dealii::Point<dim>         position;
     double                     weight;
+    /// int phi ds over the face, without the geometry's factor.
+    double                     length;
     /// int x phi ds over the face: moment / weight is where a nodal
     /// reaction over the weight samples the traction.
     Tensor<1, dim>             moment;
@@ -78,11 +86,13 @@ namespace dieflow
   /**
    * The nodes of face @p face_no of @p cell, with weights and moments from
    * @p face_values (the cell's FE with QGauss(degree + 1), values, JxW and
-   * quadrature points; reinit'ed here).
+   * quadrature points; reinit'ed here). The weight and moment carry the
+   * geometry's measure: int phi 2 pi r ds in the axisymmetric one.
    */
   template <int dim>
   std::vector<FaceNode<dim>>
-  face_nodes(const typename DoFHandler<dim>::active_cell_iterator &cell,
+  face_nodes(const CoordinateSystem<dim> &                             coordinates,
+             const typename DoFHandler<dim>::active_cell_iterator &cell,
              const unsigned int                                    face_no,
              dealii::FEFaceValues<dim> &                           face_values);
 
@@ -117,7 +127,8 @@ namespace dieflow
    */
   template <int dim>
   std::vector<WallNode<dim>>
-  collect_wall_nodes(const DoFHandler<dim> &            dof_handler,
+  collect_wall_nodes(const CoordinateSystem<dim> &      coordinates,
+                     const DoFHandler<dim> &            dof_handler,
                      const std::set<BoundaryId> &       ids,
                      const AffineConstraints<double> &  hanging_node_constraints,
                      const double                       corner_angle_degrees);

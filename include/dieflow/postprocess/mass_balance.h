@@ -1,6 +1,7 @@
 #ifndef dieflow_mass_balance_h
 #define dieflow_mass_balance_h
 
+#include <dieflow/flow/coordinate_system.h>
 #include <dieflow/parameters.h>
 
 #include <deal.II/dofs/dof_handler.h>
@@ -44,7 +45,8 @@ namespace dieflow
 
   template <int dim>
   MassBalance
-  mass_balance(const DoFHandler<dim> &               dof_handler,
+  mass_balance(const CoordinateSystem<dim> &         coordinates,
+               const DoFHandler<dim> &               dof_handler,
                const Vector<double> &                velocity,
                const std::map<BoundaryId, double> &  flux);
 

@@ -2,6 +2,7 @@
 #define dieflow_postprocess_h
 
 #include <dieflow/boundary_conditions.h>
+#include <dieflow/flow/coordinate_system.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/mesh/wall_nodes.h>
 
@@ -21,7 +22,7 @@ namespace dieflow
   /// Integral of v.n over each boundary part (all ids of the mesh).
   template <int dim>
   std::map<BoundaryId, double>
-  boundary_fluxes(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+  boundary_fluxes(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
 
   /// A wall's share w_W t_W of the reaction at a node it shares with a
   /// prescribed-velocity part (see boundary_forces()).
@@ -56,7 +57,8 @@ namespace dieflow
    */
   template <int dim>
   std::map<BoundaryId, std::vector<double>>
-  boundary_forces(const DoFHandler<dim> &           dof_handler,
+  boundary_forces(const CoordinateSystem<dim> &     coordinates,
+                  const DoFHandler<dim> &           dof_handler,
                   const Vector<double> &            reactions,
                   const BoundaryConditions<dim> &   boundary_conditions,
                   const std::vector<WallNode<dim>> &wall_nodes,
@@ -71,7 +73,7 @@ namespace dieflow
    */
   template <int dim>
   double
-  divergence_ratio(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+  divergence_ratio(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
 
   /// L2 norm of v - v_exact and of grad (v - v_exact) (3x3 Gauss points).
   template <int dim>
@@ -85,14 +87,15 @@ namespace dieflow
   /// term sees), degree 2 the P1disc projection.
   template <int dim>
   Vector<double>
-  cell_divergence(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+  cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
 
   /// Pressure p = -(q + lambda P div v), its coefficients per cell as
   /// cell_divergence() (q: the augmented-Lagrangian multiplier, if any;
   /// lambda per cell if given).
   template <int dim>
   Vector<double>
-  cell_pressure(const DoFHandler<dim> &dof_handler,
+  cell_pressure(const CoordinateSystem<dim> &coordinates,
+                const DoFHandler<dim> &dof_handler,
                 const Vector<double> & velocity,
                 const double           penalty,
                 const Vector<double> * multiplier,
@@ -107,7 +110,8 @@ namespace dieflow
    */
   template <int dim>
   void
-  write_fields(const DoFHandler<dim> &                               dof_handler,
+  write_fields(const CoordinateSystem<dim> &                          coordinates,
+            const DoFHandler<dim> &                               dof_handler,
             const Vector<double> &                                velocity,
             const Material &                                      material,
             const Vector<double> &                                pressure,

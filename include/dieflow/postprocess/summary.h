@@ -159,6 +159,8 @@ namespace dieflow
     std::vector<CycleSummary> cycles;
     /// Discretisation/Velocity degree (1: Q1-P0, 2: Q2-P1disc).
     unsigned int              velocity_degree = 1;
+    /// Geometry: "plane strain" (forces per mm of depth) or "axisymmetric" (whole body, N).
+    std::string               geometry = "plane strain";
     /// Wall time (s) per stage: setup, assembly, linear solve, postprocess, refinement.
     std::map<std::string, double> stage_wall_time;
     /// Peak resident memory of the process (MB).

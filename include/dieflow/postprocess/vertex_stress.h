@@ -1,6 +1,7 @@
 #ifndef dieflow_vertex_stress_h
 #define dieflow_vertex_stress_h
 
+#include <dieflow/flow/coordinate_system.h>
 #include <dieflow/flow/material.h>
 
 #include <deal.II/base/symmetric_tensor.h>
@@ -32,7 +33,8 @@ namespace dieflow
    */
   template <int dim>
   std::vector<SymmetricTensor<2, dim>>
-  vertex_stresses(const DoFHandler<dim> &dof_handler,
+  vertex_stresses(const CoordinateSystem<dim> &coordinates,
+                  const DoFHandler<dim> &dof_handler,
                   const Vector<double> & velocity,
                   const Material &       material,
                   const Vector<double> & cell_pressure);
