@@ -20,7 +20,7 @@ namespace dieflow
                   dealii::QGauss<dim>(fe.degree + 1),
                   dealii::update_values | dealii::update_gradients |
                     dealii::update_JxW_values | dealii::update_quadrature_points)
-        , centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values | coordinates.flags())
+        , centre(fe, dealii::QGauss<dim>(1), dealii::update_gradients | dealii::update_JxW_values)
         , face(fe,
                dealii::QGauss<dim - 1>(fe.degree + 1),
                dealii::update_values | dealii::update_JxW_values | dealii::update_quadrature_points)
@@ -123,15 +123,15 @@ namespace dieflow
                        CopyData &                    copy,
                        const bool                    with_matrix)
     {
-      const unsigned int dofs_per_cell = copy.dofs.size();
-      const auto &       coordinates   = scratch.coordinates;
+      const dealii::FEValuesExtractors::Vector velocities(0);
+      const unsigned int                       dofs_per_cell = copy.dofs.size();
       scratch.centre.reinit(cell);
-      const double JxW = scratch.centre.JxW(0) * (coordinates.axisymmetric() ? coordinates.weight(scratch.centre.quadrature_point(0)) : 1.);
-      std::vector<double> &div = scratch.strain_projections;
+      const double         JxW        = scratch.centre.JxW(0);
+      std::vector<double> &div        = scratch.strain_projections;
       double               divergence = 0;
       for (unsigned int i = 0; i < dofs_per_cell; ++i)
         {
-          div[i] = coordinates.divergence(scratch.centre, i, 0);
+          div[i] = scratch.centre[velocities].divergence(i, 0);
           divergence += scratch.local_velocity[i] * div[i];
         }
       const unsigned int c           = cell->active_cell_index();
@@ -319,7 +319,8 @@ namespace dieflow
             }
 
       const double lambda = (cell_penalty != nullptr) ? (*cell_penalty)[cell->active_cell_index()] : penalty;
-      if (fe.degree == 1)
+      // Axisymmetric Q1: the weighted cell mean of div v (PressureProjection).
+      if (fe.degree == 1 && !coordinates.axisymmetric())
         add_centre_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr);
       else
         add_projected_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr, mixed != nullptr);

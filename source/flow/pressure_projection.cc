@@ -8,11 +8,12 @@ namespace dieflow
   {
     template <int dim>
     dealii::Quadrature<dim>
-    projection_quadrature(const dealii::FiniteElement<dim> &fe)
+    projection_quadrature(const dealii::FiniteElement<dim> &fe, const CoordinateSystem<dim> &coordinates)
     {
-      // Degree 1: the one-point rule of the Q1-P0 element; degree 2: exact
-      // for psi_m div phi_i on straight-sided cells.
-      return dealii::QGauss<dim>(fe.degree == 1 ? 1 : fe.degree + 1);
+      // Degree 1: the one-point rule of the Q1-P0 element (axisymmetric: the
+      // weighted cell mean, 2x2 points); degree 2: exact for psi_m div phi_i
+      // on straight-sided cells.
+      return dealii::QGauss<dim>(fe.degree == 1 ? (coordinates.axisymmetric() ? 2 : 1) : fe.degree + 1);
     }
   } // namespace
 
@@ -24,7 +25,7 @@ namespace dieflow
     : modes(n_modes_for(fe))
     , coordinates(coordinates)
     , fe_values(fe,
-                projection_quadrature(fe),
+                projection_quadrature(fe, coordinates),
                 dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points |
                   coordinates.flags())
     , B(modes, fe.n_dofs_per_cell())

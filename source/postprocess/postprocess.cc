@@ -445,16 +445,17 @@ namespace dieflow
   Vector<double>
   cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
-    if (dof_handler.get_fe().degree > 1)
+    if (dof_handler.get_fe().degree > 1 || coordinates.axisymmetric())
       return PressureProjection<dim>::project_all(dof_handler, velocity, coordinates);
-    dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients | coordinates.flags());
-    std::vector<StrainRate<dim>> D(1);
-    Vector<double>               divergence(dof_handler.get_triangulation().n_active_cells());
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients);
+    std::vector<double>   div(1);
+    Vector<double>        divergence(dof_handler.get_triangulation().n_active_cells());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         centre.reinit(cell);
-        coordinates.strain_rates(centre, velocity, D);
-        divergence[cell->active_cell_index()] = D[0].trace();
+        centre[velocities].get_function_divergences(velocity, div);
+        divergence[cell->active_cell_index()] = div[0];
       }
     return divergence;
   }
