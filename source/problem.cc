@@ -887,11 +887,11 @@ namespace dieflow
                                                std::vector<dealii::SymmetricTensor<2, dim>>();
         contact.write_profiles(results, recover_profiles ? &stress : nullptr, run_parameters.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
-        const double inflow            = -boundary_conditions_inflow(summary.flux);
+        const double throughput        = boundary_conditions_throughput(summary.flux);
         for (const BoundaryId id : contact_parameters.die_ids)
-          if (std::abs(summary.flux[id]) > 1e-6 * inflow)
+          if (std::abs(summary.flux[id]) > 1e-6 * throughput)
             log << "  flux through die id " << id << ": " << std::setprecision(4) << summary.flux[id] << " ("
-                << 100. * std::abs(summary.flux[id]) / inflow << "% of the inflow): "
+                << 100. * std::abs(summary.flux[id]) / throughput << "% of the throughput): "
                 << (summary.flux[id] < 0 ? "the metal leaves the wall there (separated), see doc/contact.md" :
                                            "penetration")
                 << std::endl;
@@ -1014,12 +1014,16 @@ namespace dieflow
 
   template <int dim>
   double
-  DieFlowProblem<dim>::boundary_conditions_inflow(const std::map<BoundaryId, double> &flux) const
+  DieFlowProblem<dim>::boundary_conditions_throughput(const std::map<BoundaryId, double> &flux) const
   {
-    double inflow = 0;
-    for (const BoundaryId id : boundary_conditions.velocity_ids)
-      inflow += std::min(flux.at(id), 0.);
-    return inflow;
+    // The larger of what flows in and out through the parts other than the
+    // dies: a ram pushes it in, a drawing pull takes it out through a
+    // prescribed outlet while the inlet is free.
+    double inflow = 0, outflow = 0;
+    for (const auto &[id, q] : flux)
+      if (!contact_parameters.die_ids.count(id))
+        (q < 0 ? inflow : outflow) += std::abs(q);
+    return std::max(inflow, outflow);
   }
 
 

@@ -231,9 +231,9 @@ namespace dieflow
     add_die_shares(const std::vector<WallShare<dim>> &shares,
                    const std::set<BoundaryId> &       frictionless,
                    CycleSummary &                     summary) const;
-    /// Volume per unit time that enters through the prescribed-velocity parts (<= 0).
+    /// Volume per unit time through the parts other than the dies: the larger of inflow and outflow.
     double
-    boundary_conditions_inflow(const std::map<BoundaryId, double> &flux) const;
+    boundary_conditions_throughput(const std::map<BoundaryId, double> &flux) const;
     /// The flow residual at the nodes (reactions), hanging nodes condensed.
     Vector<double>
     nodal_flow_residual(const Vector<double> &v);
