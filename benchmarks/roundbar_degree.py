@@ -14,23 +14,15 @@ error) and the dofs and time each degree needs for 1 %, 0.1 % and 0.05 %.
 
 Not a test: the times are this machine's (run one benchmark at a time).
 """
-import argparse, json, os, platform, re, subprocess, tempfile
+import argparse, os, platform
+
+from deck_variant import run_variant
 
 LEVELS = (0.01, 0.001, 0.0005)
 
 
 def run(program, degree, cycles):
-    text = open("parameters/roundbar.prm").read()
-    text = re.sub(r"set Velocity degree\s*=.*", "set Velocity degree = %d" % degree, text)
-    text = re.sub(r"set Cycles\s*=.*", "set Cycles = %d" % cycles, text)
-    text = re.sub(r"set Write VTU\s*=.*", "set Write VTU = false", text)
-    with tempfile.TemporaryDirectory() as tmp:
-        text = re.sub(r"set Output directory\s*=.*", "set Output directory = %s" % tmp, text)
-        path = os.path.join(tmp, "deck.prm")
-        open(path, "w").write(text)
-        status = subprocess.run([program, path], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
-        summary = json.load(open(os.path.join(tmp, "summary.json")))
-    return status, summary
+    return run_variant(program, "parameters/roundbar.prm", {"Velocity degree": "%d" % degree, "Cycles": "%d" % cycles})
 
 
 def main():
