@@ -833,6 +833,7 @@ namespace dieflow
     summary.cells = triangulation.n_active_cells();
     summary.dofs  = dof_handler.n_dofs();
     summary.flux  = boundary_fluxes(coordinates, dof_handler, velocity);
+    summary.boundary_area = boundary_areas(coordinates, dof_handler);
 
     // Reactions of the converged state, with hanging nodes' shares moved to
     // the vertices they hang from.

@@ -46,6 +46,30 @@ namespace dieflow
 
 
 
+  template <int dim>
+  std::map<BoundaryId, double>
+  boundary_areas(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler)
+  {
+    std::map<BoundaryId, double> area;
+    for (const auto id : dof_handler.get_triangulation().get_boundary_ids())
+      area[id] = 0;
+    // Exact for the straight faces of the meshes (r is linear along a face).
+    const dealii::QGauss<dim - 1> quadrature(2);
+    dealii::FEFaceValues<dim>     face_values(dof_handler.get_fe(), quadrature,
+                                          dealii::update_JxW_values | dealii::update_quadrature_points);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            face_values.reinit(cell, f);
+            for (const unsigned int q : face_values.quadrature_point_indices())
+              area[cell->face(f)->boundary_id()] += face_values.JxW(q) * coordinates.weight(face_values.quadrature_point(q));
+          }
+    return area;
+  }
+
+
+
   namespace
   {
     /// The parts of one boundary node: per part id, the integral of the
@@ -618,6 +642,8 @@ namespace dieflow
 
   template std::map<BoundaryId, double>
   boundary_fluxes<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
+  template std::map<BoundaryId, double>
+  boundary_areas<2>(const CoordinateSystem<2> &, const DoFHandler<2> &);
   template std::map<BoundaryId, std::vector<double>>
   boundary_forces<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const BoundaryConditions<2> &, const std::vector<WallNode<2>> &,
                      const std::set<BoundaryId> &, std::vector<WallShare<2>> *);

@@ -87,8 +87,15 @@ namespace dieflow
         << (summary.geometry == "axisymmetric" ? ", axisymmetric" : "") << "):\n";
     for (const auto &[name, value] : last.quantities)
       if (name.rfind("F_x[", 0) == 0)
-        out << "  force on prescribed-velocity part " << name.substr(4, name.size() - 5) << ", " << name << " = "
-            << quantity(name, force_unit) << '\n';
+        {
+          const BoundaryId id = std::stoul(name.substr(4, name.size() - 5));
+          out << "  force on prescribed-velocity part " << id << ", " << name << " = " << quantity(name, force_unit)
+              << '\n';
+          // The ram's extrusion pressure, a drawing pull's drawing stress.
+          if (const auto area = last.boundary_area.find(id); area != last.boundary_area.end() && area->second > 0)
+            out << "      mean axial stress F_x[" << id << "] / A = " << std::setprecision(6) << value / area->second
+                << " MPa over A = " << area->second << (summary.geometry == "axisymmetric" ? " mm^2" : " mm") << '\n';
+        }
     for (const auto &[id, length] : last.contact_length)
       {
         const std::string i = std::to_string(id);
@@ -177,6 +184,7 @@ namespace dieflow
             << ", \"direct_fallbacks\": " << s.linear_counts.direct_fallbacks << "},\n"
             << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"
             << "      \"flux\": " << id_map(s.flux, number) << ",\n"
+            << "      \"boundary_area\": " << id_map(s.boundary_area, number) << ",\n"
             << "      \"die_normal_force\": " << id_map(s.die_normal_force, number) << ",\n"
             << "      \"die_friction_force\": " << id_map(s.die_friction_force, number) << ",\n"
             << "      \"contact_nodes\": {\"separated\": " << s.contact_nodes.separated

@@ -26,6 +26,12 @@ namespace dieflow
 
   /// A wall's share w_W t_W of the reaction at a node it shares with a
   /// prescribed-velocity part (see boundary_forces()).
+  /// The area of each boundary part: int ds (mm per mm of depth in plane
+  /// strain), or int 2 pi r ds (mm^2) in the axisymmetric geometry.
+  template <int dim>
+  std::map<BoundaryId, double>
+  boundary_areas(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler);
+
   template <int dim>
   struct WallShare
   {

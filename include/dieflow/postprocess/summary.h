@@ -75,6 +75,8 @@ namespace dieflow
     std::map<BoundaryId, std::vector<double>> boundary_force;
     /// Integral of v.n over each boundary part (mm^2/s in 2D).
     std::map<BoundaryId, double> flux;
+    /// Each boundary part's area (mm per mm of depth; axisymmetric: mm^2).
+    std::map<BoundaryId, double> boundary_area;
     std::map<BoundaryId, double> die_normal_force;
     std::map<BoundaryId, double> die_friction_force;
     ContactCounts                contact_nodes;
