@@ -17,7 +17,7 @@ alpha and Coulomb coefficients mu:
 sigma_d = F_x[2] / (pi R_f^2) at the last of three Kelly cycles, on two
 starting meshes (16 and 32 cells across) to show the discretisation error.
 
-    benchmarks/drawing_stress.py [--program build/dieflow]
+    benchmarks/drawing_stress.py [--program build/dieflow] [--curve MU]
 
 Not a test: a comparison with approximate theories (the report says where
 and why they differ).
@@ -58,7 +58,15 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--program", default="build/dieflow")
     parser.add_argument("--deck", default="parameters/wiredrawing.prm")
+    parser.add_argument("--curve", type=float, metavar="MU",
+                        help="columns alpha, ideal, Sachs, Avitzur, dieflow for alpha = 4..20 at this mu (for gnuplot)")
     args = parser.parse_args()
+    if args.curve is not None:
+        print("# alpha ideal Sachs Avitzur dieflow (mu = %g, 16 cells across)" % args.curve)
+        for alpha in range(4, 22, 2):
+            status, dofs, sigma = run(args.program, args.deck, alpha, args.curve, 16)
+            print("%g %.5f %.5f %.5f %.5f" % ((alpha,) + theories(alpha, args.curve) + (sigma,)))
+        return
     print("| alpha [deg] | mu | ideal | Sachs | Avitzur (m_f = sqrt 3 mu) | dieflow, 16 across (dofs) | dieflow, 32 across (dofs) |")
     print("|---|---|---|---|---|---|---|")
     for alpha in (6, 8, 12, 15):

@@ -48,3 +48,20 @@ DECK
   rsvg-convert -w 1000 "$work/adaptive/mesh-08.svg" -o doc/images/die2d-adaptive-mesh.png
   echo "wrote doc/images/die2d-adaptive-mesh.png"
 fi
+
+# Wire drawing: the drawing stress against the die semi-angle (doc/axisymmetric.md).
+python3 benchmarks/drawing_stress.py --program "$program" --curve 0.05 > "$work/drawing.dat"
+gnuplot <<GP
+set terminal pngcairo size 900,560 font "sans,11"
+set output 'doc/images/drawing-stress.png'
+set xlabel 'die semi-angle alpha (degrees)'
+set ylabel 'drawing stress sigma_d / sigma_0'
+set title 'Wire drawing, 20 % reduction, Coulomb mu = 0.05 (parameters/wiredrawing.prm)'
+set key top left
+set grid
+plot '$work/drawing.dat' using 1:4 with lines lw 2 title 'Avitzur upper bound (m_f = sqrt(3) mu)', \
+     '' using 1:5 with linespoints lw 2 pt 7 title 'dieflow (Norton-Hoff m = 0.05)', \
+     '' using 1:3 with lines lw 2 title 'Sachs slab method', \
+     '' using 1:2 with lines lw 2 dt 2 title 'ideal work ln(A_0/A_f)'
+GP
+echo "wrote doc/images/drawing-stress.png"
