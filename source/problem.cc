@@ -8,6 +8,7 @@
 #include <dieflow/postprocess/vertex_stress.h>
 #include <dieflow/problem.h>
 #include <dieflow/postprocess/goal_estimate.h>
+#include <dieflow/threads.h>
 
 #include <limits>
 
@@ -281,6 +282,9 @@ namespace dieflow
         if (!saddle_point_solver)
           saddle_point_solver = std::make_unique<SaddlePointSolver<dim>>();
         saddle_point_solver->set_rigid_body_modes(rigid_body_modes(dof_handler));
+        if (linear_solver.p_multigrid)
+          saddle_point_solver->use_p_multigrid(dof_handler);
+        saddle_point_solver->constraints = &update_constraints;
         // The previous mesh's cell stress gives the first pressure (cell
         // means). Without one the pressure starts at zero, at the first
         // assembly: q = -lambda P div v there (a velocity that only meets
@@ -497,12 +501,12 @@ namespace dieflow
 
   template <int dim>
   void
-  DieFlowProblem<dim>::solve(Vector<double> &update)
+  DieFlowProblem<dim>::solve(Vector<double> &update, const double relative_residual)
   {
     dealii::TimerOutput::Scope scope(timer, "linear solve");
     update.reinit(dof_handler.n_dofs());
     if (mixed_form)
-      solve_mixed(update);
+      solve_mixed(update, linear_solver.forcing_tolerance(relative_residual));
     else if (augmented)
       linear_solver.solve_iteratively(system_matrix, matrix_symmetric, system_rhs, update);
     else
@@ -543,17 +547,20 @@ namespace dieflow
 
   template <int dim>
   void
-  DieFlowProblem<dim>::solve_mixed(Vector<double> &update)
+  DieFlowProblem<dim>::solve_mixed(Vector<double> &update, const double tolerance)
   {
     // b_p = -R_p = M q / lambda.
     Vector<double> inverse_penalty(mixed.n_cells), rhs_pressure, dp;
     for (unsigned int c = 0; c < mixed.n_cells; ++c)
       inverse_penalty[c] = 1. / mixed.penalty[c];
     mixed.mass_vmult(rhs_pressure, accepted_multiplier, inverse_penalty);
+    saddle_point_solver->inner_tolerance = linear_solver.inner_tolerance;
     const auto info = saddle_point_solver->solve(system_matrix, mixed, system_rhs, rhs_pressure, update, dp,
-                                                 linear_solver.iterative_tolerance, linear_solver.max_block_iterations);
+                                                 matrix_symmetric, tolerance,
+                                                 linear_solver.max_block_iterations);
     ++linear_solver.counts.iterative_solves;
     linear_solver.counts.krylov_iterations += info.iterations;
+    linear_solver.counts.inner_iterations += info.inner_iterations;
     if (info.converged)
       {
         // dq = dp - lambda M^-1 B du.
@@ -791,7 +798,7 @@ namespace dieflow
       assemble(start, velocity, Linearization::picard, &system_matrix, system_rhs);
     }
     Vector<double> update;
-    solve(update);
+    solve(update, 0);
     velocity += update;
     ++start_solves;
     // The start's pressure, p = q + lambda P div v with its own lambda.
@@ -1356,14 +1363,15 @@ namespace dieflow
     dealii::Utilities::System::MemoryStats memory;
     dealii::Utilities::System::get_memory_stats(memory);
     summary.peak_memory_mb = memory.VmHWM / 1024.;
+    summary.threads        = threads::running();
     write_summary_json(summary, summary_file);
 
     write_result_summary(summary, log);
     log << "wall time " << std::fixed << std::setprecision(3) << summary.wall_time << " s:";
     for (const auto &[stage, seconds] : summary.stage_wall_time)
       log << ' ' << stage << ' ' << seconds;
-    log << "; peak memory " << std::setprecision(1) << summary.peak_memory_mb << " MB" << std::defaultfloat
-        << std::endl;
+    log << "; peak memory " << std::setprecision(1) << summary.peak_memory_mb << " MB; " << summary.threads
+        << (summary.threads == 1 ? " thread" : " threads") << std::defaultfloat << std::setprecision(6) << std::endl;
     return summary;
   }
 

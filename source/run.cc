@@ -1,6 +1,7 @@
 #include <dieflow/interrupt.h>
 #include <dieflow/problem.h>
 #include <dieflow/run.h>
+#include <dieflow/threads.h>
 
 #include <algorithm>
 #include <iomanip>
@@ -307,6 +308,7 @@ namespace dieflow
         read_deck(argument, prm);
         std::cout << "dieflow: " << argument << std::endl;
         interrupt::install_handlers();
+        threads::use(threads::requested());
         const RunSummary summary =
           run_deck(prm, std::filesystem::path(argument).parent_path().string(), std::cout);
         const std::string results = prm.get("Output directory") + "/ (summary.json" +
@@ -318,7 +320,8 @@ namespace dieflow
                     << std::endl;
         else
           std::cout << (summary.converged ? "converged" : "NOT converged: " + summary.failure) << "; results in "
-                    << results << ", wall time " << summary.wall_time << " s" << std::endl;
+                    << results << ", wall time " << std::fixed << std::setprecision(2) << summary.wall_time << " s"
+                    << std::defaultfloat << std::endl;
         return summary.converged ? exit_converged : exit_not_converged;
       }
     catch (const InputError &error)

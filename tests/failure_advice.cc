@@ -95,7 +95,7 @@ namespace
     accept_step(const dealii::Vector<double> &, const dealii::Vector<double> &, const double, const Linearization) override
     {}
     void
-    solve(dealii::Vector<double> &update) override
+    solve(dealii::Vector<double> &update, const double) override
     {
       if (failure == Failure::singular_matrix)
         throw SolverFailure("the linear solver failed (singular matrix)");

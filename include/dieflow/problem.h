@@ -78,7 +78,7 @@ namespace dieflow
       return system_rhs;
     }
     void
-    solve(Vector<double> &update) override;
+    solve(Vector<double> &update, const double relative_residual) override;
     bool
     is_linear() const override;
     double
@@ -129,7 +129,7 @@ namespace dieflow
      * (set_trial_step()).
      */
     void
-    solve_mixed(Vector<double> &update);
+    solve_mixed(Vector<double> &update, const double tolerance);
     /// q = p - lambda M^-1 B v for the cell coefficients @p p (lambda: the assembler's).
     Vector<double>
     multiplier_for(const Vector<double> &p, const Vector<double> &v) const;

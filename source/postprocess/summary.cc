@@ -131,6 +131,7 @@ namespace dieflow
         << "  \"velocity_degree\": " << summary.velocity_degree << ",\n"
         << "  \"geometry\": \"" << summary.geometry << "\",\n";
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
+        << "  \"threads\": " << summary.threads << ",\n"
         << "  \"stage_wall_time\": {";
     for (auto it = summary.stage_wall_time.begin(); it != summary.stage_wall_time.end(); ++it)
       out << (it == summary.stage_wall_time.begin() ? "" : ", ") << string(it->first) << ": "
@@ -181,6 +182,7 @@ namespace dieflow
             << ", \"lu_factorisations\": " << s.linear_counts.lu_factorisations
             << ", \"iterative_solves\": " << s.linear_counts.iterative_solves
             << ", \"krylov_iterations\": " << s.linear_counts.krylov_iterations
+            << ", \"inner_iterations\": " << s.linear_counts.inner_iterations
             << ", \"direct_fallbacks\": " << s.linear_counts.direct_fallbacks << "},\n"
             << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"
             << "      \"flux\": " << id_map(s.flux, number) << ",\n"

@@ -191,9 +191,10 @@ namespace dieflow
                       "iteration on a mesh. iterative, velocity degree 2: the same "
                       "penalty problem in mixed form (velocity and P1disc pressure), "
                       "each Newton system solved by GMRES with a block-triangular "
-                      "preconditioner (one AMG V-cycle on the velocity block, the "
-                      "pressure mass scaled by the inverse viscosity): the direct "
-                      "solver's answer, in memory and time that grow about linearly. "
+                      "preconditioner (a multigrid cycle on the velocity block, "
+                      "'Velocity multigrid'; the pressure mass scaled by the inverse "
+                      "viscosity): the direct solver's answer, in a third of its "
+                      "memory and, from about 700,000 unknowns, less time. "
                       "iterative, degree 1: the augmented-Lagrangian form (penalty "
                       "'Augmentation factor' x eta, the pressure carried as a cell "
                       "multiplier updated every nonlinear iteration until the "
@@ -205,10 +206,11 @@ namespace dieflow
                       "0",
                       dealii::Patterns::Integer(0),
                       "With Method = auto: the number of unknowns from which the "
-                      "iterative solver is used; 0: 3,000,000. The direct solver "
-                      "was faster at every size measured for both velocity degrees "
-                      "(doc/benchmarks.md); this is where its factorisation would "
-                      "outgrow some 13 to 18 GB of memory (extrapolated).");
+                      "iterative solver is used; 0: 700,000 for velocity degree 2 "
+                      "(where the mixed form's solver overtakes the direct one on "
+                      "die2d, doc/benchmarks.md), 3,000,000 for degree 1 (the "
+                      "direct solver was faster at every size measured; this is "
+                      "where its factorisation would outgrow some 13 GB).");
     prm.declare_entry("Augmentation factor",
                       "1e3",
                       dealii::Patterns::Double(0),
@@ -221,12 +223,46 @@ namespace dieflow
                       "Iterative method: a linear solve stops when its residual is "
                       "below this fraction of its right-hand side (degree 2: the "
                       "mixed system's, its pressure rows scaled by eta/h to force "
-                      "units). Newton's own tests decide the answer's accuracy.");
+                      "units); degree 2 with 'Inexact Newton': the tightest "
+                      "tolerance a solve is given. Newton's own tests decide the "
+                      "answer's accuracy.");
     prm.declare_entry("Divergence tolerance",
                       "1e-7",
                       dealii::Patterns::Double(0),
                       "Iterative method: the nonlinear iteration also requires the "
                       "divergence ratio ||div v|| / ||grad v|| to be below this.");
+    prm.declare_entry("Velocity multigrid",
+                      "p-multigrid",
+                      dealii::Patterns::Selection("p-multigrid|AMG"),
+                      "Iterative method, velocity degree 2: the multigrid cycle that "
+                      "approximates the inverse of the velocity block. p-multigrid: "
+                      "Chebyshev smoothing of the Q2 block and one AMG V-cycle on its "
+                      "Galerkin projection onto Q1 velocities of the same mesh "
+                      "(faster at every size measured, and memory about half). AMG: "
+                      "one AMG V-cycle on the Q2 block itself.");
+    prm.declare_entry("Velocity block",
+                      "one cycle",
+                      dealii::Patterns::Selection("one cycle|inner solve"),
+                      "Iterative method, velocity degree 2: how the preconditioner "
+                      "applies the inverse of the velocity block. one cycle: one "
+                      "cycle of 'Velocity multigrid' (GMRES outside). inner solve: CG "
+                      "(GMRES where friction slips) on the velocity block, "
+                      "preconditioned by that cycle, to 'Inner tolerance' (flexible "
+                      "GMRES outside): outer iterations that do not grow with the "
+                      "mesh, each dearer.");
+    prm.declare_entry("Inner tolerance",
+                      "1e-2",
+                      dealii::Patterns::Double(0),
+                      "Velocity block = inner solve: the relative residual to which "
+                      "each inner solve reduces its right-hand side.");
+    prm.declare_entry("Inexact Newton",
+                      "true",
+                      dealii::Patterns::Bool(),
+                      "Iterative method, velocity degree 2: solve each Newton system "
+                      "to 0.1 x the relative residual of the iterate, between "
+                      "'Iterative tolerance' and 1e-2, instead of always to "
+                      "'Iterative tolerance' (Newton's own tolerances still decide "
+                      "when the answer is converged).");
     prm.declare_entry("Direct solver",
                       "auto",
                       dealii::Patterns::Selection("auto|UMFPACK"),
@@ -248,10 +284,26 @@ namespace dieflow
     augmentation        = get_positive(prm, "Linear solver/", "Augmentation factor");
     iterative_tolerance  = prm.get_double("Iterative tolerance");
     divergence_tolerance = get_positive(prm, "Linear solver/", "Divergence tolerance");
+    inexact_newton       = prm.get_bool("Inexact Newton");
+    p_multigrid          = prm.get("Velocity multigrid") == "p-multigrid";
+    inner_tolerance      = prm.get("Velocity block") == "inner solve" ? prm.get_double("Inner tolerance") : 0.;
+    require(prm.get_double("Inner tolerance") > 0 && prm.get_double("Inner tolerance") < 1,
+            "Linear solver/Inner tolerance",
+            "must lie in (0, 1), got " + prm.get("Inner tolerance"));
     require(iterative_tolerance > 0 && iterative_tolerance < 1,
             "Linear solver/Iterative tolerance",
             "must lie in (0, 1), got " + prm.get("Iterative tolerance"));
     prm.leave_subsection();
+  }
+
+
+
+  double
+  LinearSolver::forcing_tolerance(const double relative_residual) const
+  {
+    if (!inexact_newton || !(relative_residual > 0))
+      return iterative_tolerance;
+    return std::max(iterative_tolerance, std::min(1e-2, 0.1 * relative_residual));
   }
 
 
@@ -336,13 +388,13 @@ namespace dieflow
   std::size_t
   LinearSolver::auto_threshold(const unsigned int degree)
   {
-    // No crossover measured for either degree (doc/benchmarks.md): the
-    // direct solver was faster at every size both ran (degree 1 to 458k
-    // unknowns, degree 2 to 167k). This is where its factorisation outgrows
-    // some 13 GB (degree 1, extrapolated) or 18 GB (degree 2: 9.2 GB at
-    // 1.5M unknowns, measured).
-    (void)degree;
-    return 3000000;
+    // Degree 2: the measured crossover of die2d N1 (doc/benchmarks.md,
+    // "p-multigrid"): the mixed form with the p-multigrid cycle takes as
+    // long as the direct solver at 668k unknowns and less from there on,
+    // in a third of the memory. Degree 1: no crossover (the augmented
+    // Lagrangian was slower at every size, to 458k unknowns); this is
+    // where its factorisation outgrows some 13 GB (extrapolated).
+    return degree >= 2 ? 700000 : 3000000;
   }
 
 

@@ -271,7 +271,7 @@ namespace dieflow
         const auto solved = [&]() {
           try
             {
-              system.solve(update);
+              system.solve(update, residual);
               ++result.linear_solves;
               return true;
             }

@@ -29,6 +29,8 @@ namespace dieflow
     /// that did not converge and went to the direct solver.
     unsigned int iterative_solves  = 0;
     unsigned int krylov_iterations = 0;
+    /// Degree 2 with an inner solve of the velocity block: its iterations.
+    unsigned int inner_iterations = 0;
     unsigned int direct_fallbacks  = 0;
     /// Direct solver: orderings with symbolic factorisations (one per mesh
     /// and kind when the reuse works), and numeric factorisations by kind.
@@ -167,6 +169,8 @@ namespace dieflow
     std::map<std::string, double> stage_wall_time;
     /// Peak resident memory of the process (MB).
     double peak_memory_mb = 0;
+    /// The threads the assembly ran on (threads.h; the results do not depend on it).
+    unsigned int threads = 1;
     /// Richardson estimates of the quantities (study.h).
     std::vector<QuantityEstimate> extrapolated;
     /// With a Refinement/Target error: whether the estimated relative error

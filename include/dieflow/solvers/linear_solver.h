@@ -106,6 +106,22 @@ namespace dieflow
     double augmentation = 1e3;
     /// Relative residual at which an iterative solve stops.
     double iterative_tolerance = 1e-6;
+    /**
+     * The relative tolerance of an iterative solve of the Newton system at
+     * an iterate whose relative residual is @p relative_residual: with
+     * 'Inexact Newton', 0.1 x that, between 'Iterative tolerance' and
+     * 1e-2 (the inexact Newton method, Dembo, Eisenstat and Steihaug 1982:
+     * a step solved to a fraction eta of the residual keeps Newton's
+     * convergence superlinear when eta -> 0 with the residual, so the early
+     * steps need not be solved to the last digits); else 'Iterative tolerance'.
+     */
+    double
+    forcing_tolerance(const double relative_residual) const;
+    bool inexact_newton = true;
+    /// Degree 2: the velocity block's cycle is PMultigrid (else AMG on the Q2 block).
+    bool p_multigrid = true;
+    /// Degree 2: 0 for one V-cycle on the velocity block, else the inner solve's tolerance.
+    double inner_tolerance = 0;
     /// Divergence ratio at which the multiplier iteration stops.
     double divergence_tolerance = 1e-7;
 

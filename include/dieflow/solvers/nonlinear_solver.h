@@ -134,9 +134,11 @@ namespace dieflow
       (void)step;
     }
 
-    /// Solves J du = -R with the last assembled system.
+    /// Solves J du = -R with the last assembled system. An iterative solve
+    /// may stop early where @p relative_residual (the residual() of the
+    /// iterate) is large: the inexact Newton method's forcing term.
     virtual void
-    solve(dealii::Vector<double> &update) = 0;
+    solve(dealii::Vector<double> &update, const double relative_residual) = 0;
   };
 
   /// One line of the iteration log.

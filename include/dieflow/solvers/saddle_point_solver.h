@@ -3,12 +3,14 @@
 
 #include <dieflow/flow/mixed_penalty.h>
 #include <dieflow/solvers/iterative_solver.h>
+#include <dieflow/solvers/p_multigrid.h>
 #include <dieflow/solvers/rigid_body_modes.h>
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/vector.h>
 
+#include <memory>
 #include <vector>
 
 namespace dieflow
@@ -19,8 +21,10 @@ namespace dieflow
    *   [ A   B^T ] [du]   [b_v]
    *   [ B  -C   ] [dp] = [b_p],   C = M/lambda (block diagonal),
    * by GMRES, right-preconditioned with the block upper-triangular
-   *   P = [ A^  B^T ]      A^: one V-cycle of algebraic multigrid on A
-   *       [ 0  -S^  ],     (Trilinos ML, smoothed aggregation with the
+   *   P = [ A^  B^T ]      A^: one p-multigrid cycle (PMultigrid: Q2
+   *       [ 0  -S^  ],     smoothing, AMG on the Q1 Galerkin operator), or
+   *                         one V-cycle of algebraic multigrid on A itself
+   *                         (Trilinos ML, smoothed aggregation with the
    *                         rigid-body modes as near-null space),
    *   S^ = M (1/eta_K + 1/lambda_K) per cell,
    * the Schur complement B A^-1 B^T + C with A^-1 replaced by the inverse
@@ -29,6 +33,15 @@ namespace dieflow
    * Wathen, Finite Elements and Fast Iterative Solvers, 2nd ed., ch. 4;
    * ASPECT's Stokes solver). Exact to invert: M is block diagonal.
    * Right preconditioning keeps the residual GMRES measures the true one.
+   *
+   * A^ is either one cycle (a fixed linear map: GMRES), or, with an inner
+   * tolerance, an inner Krylov solve of A with that cycle as its
+   * preconditioner (CG where A is symmetric, GMRES where slipping friction
+   * makes it non-symmetric) to that relative residual: a preconditioner
+   * that changes with its argument, hence flexible GMRES outside (ASPECT's
+   * "expensive" Stokes solver). The inner solve makes the outer count that
+   * of an exact A (the Schur approximation's alone, about 15 per solve on
+   * die2d, doc/benchmarks.md) at the price of the inner iterations.
    *
    * The pressure unknowns and equations are scaled by s_K = eta_K / h_K,
    * which gives both blocks the units of a nodal force, so that the
@@ -43,16 +56,34 @@ namespace dieflow
     {
       bool         converged  = false;
       unsigned int iterations = 0;
+      /// With an inner solve: its iterations, summed over the outer ones.
+      unsigned int inner_iterations = 0;
     };
+
+    /**
+     * 0: A^ is one V-cycle. Otherwise the relative residual to which each
+     * application of A^ solves A (inner CG or GMRES, at most
+     * max_inner_iterations, accepting what it reached then).
+     */
+    double       inner_tolerance      = 0;
+    unsigned int max_inner_iterations = 200;
 
     /// The velocity's rigid-body modes (rigid_body_modes()).
     void
     set_rigid_body_modes(std::vector<double> modes);
 
+    /// A^ by p-multigrid (PMultigrid) on this mesh instead of AMG on A.
+    void
+    use_p_multigrid(const dealii::DoFHandler<dim> &dof_handler);
+
+    /// The constraints whose rows A has condensed (for p-multigrid).
+    const dealii::AffineConstraints<double> *constraints = nullptr;
+
     /**
      * Solves from du = dp = 0 until the scaled residual is below
      * @p tolerance times the scaled right-hand side; reports failure (no
-     * exception) after @p max_iterations.
+     * exception) after @p max_iterations. @p symmetric: A = A^T (the inner
+     * solve may use CG).
      */
     Info
     solve(const dealii::SparseMatrix<double> &A,
@@ -61,6 +92,7 @@ namespace dieflow
           const dealii::Vector<double> &      rhs_pressure,
           dealii::Vector<double> &            du,
           dealii::Vector<double> &            dp,
+          const bool                          symmetric,
           const double                        tolerance,
           const unsigned int                  max_iterations);
 
@@ -69,6 +101,7 @@ namespace dieflow
     std::vector<double>                       modes;
     dealii::TrilinosWrappers::SparseMatrix    velocity_matrix;
     dealii::TrilinosWrappers::PreconditionAMG velocity_preconditioner;
+    std::unique_ptr<PMultigrid<dim>>          p_multigrid;
   };
 } // namespace dieflow
 

@@ -1,0 +1,72 @@
+#ifndef dieflow_p_multigrid_h
+#define dieflow_p_multigrid_h
+
+#include <dieflow/solvers/rigid_body_modes.h>
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/precondition.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <memory>
+#include <vector>
+
+namespace dieflow
+{
+  /**
+   * A two-level p-multigrid cycle for the Q2 velocity block A (the
+   * condensed Newton matrix of the mixed form):
+   *   x  = S b                       (Chebyshev smoothing on Q2, from 0)
+   *   x += P A_1^ P^T (b - A x)      (coarse correction on Q1)
+   *   x += S (b - A x)               (the same smoothing again),
+   * with P the embedding of the Q1 velocity space of the same mesh into the
+   * Q2 one (exact: Q1 is a subspace of Q2), its rows of constrained Q2
+   * dofs zero (the condensed system's unknowns are the unconstrained
+   * dofs), A_1 = P^T A P the Galerkin operator (which carries the contact,
+   * slip and friction rows of A as they are), and A_1^ one ML
+   * smoothed-aggregation V-cycle on it with the rigid-body modes. Algebraic
+   * multigrid copes with the short stencil of a Q1 operator better than
+   * with Q2's (Heys, Manteuffel, McCormick, Olson, J. Comput. Phys. 204
+   * (2005) 520; the "hybrid multigrid" of Kronbichler and Wall, SIAM J.
+   * Sci. Comput. 40 (2018) A3423).
+   */
+  template <int dim>
+  class PMultigrid
+  {
+  public:
+    /// The Q1 space and the embedding P, for a mesh (call when it changes).
+    void
+    reinit(const dealii::DoFHandler<dim> &dof_handler);
+
+    /// The hierarchy for @p A, whose constrained rows are those of @p constraints.
+    void
+    initialize(const dealii::SparseMatrix<double> &A, const dealii::AffineConstraints<double> &constraints);
+
+    void
+    vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+
+  private:
+    dealii::FESystem<dim>                     coarse_fe{dealii::FE_Q<dim>(1), dim};
+    dealii::DoFHandler<dim>                   coarse_dofs;
+    std::vector<double>                       coarse_modes;
+    dealii::SparsityPattern                   embedding_pattern;
+    dealii::SparseMatrix<double>              embedding;
+    dealii::SparsityPattern                   product_pattern, coarse_pattern;
+    dealii::SparseMatrix<double>              product, coarse_matrix;
+    bool                                      patterns_built = false;
+    dealii::Vector<double>                    free;
+    const dealii::SparseMatrix<double> *      matrix = nullptr;
+    dealii::PreconditionChebyshev<dealii::SparseMatrix<double>, dealii::Vector<double>> smoother;
+    dealii::TrilinosWrappers::SparseMatrix    coarse_copy;
+    dealii::TrilinosWrappers::PreconditionAMG coarse_amg;
+    mutable dealii::Vector<double>            residual, coarse_residual, coarse_correction;
+  };
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,126 @@
+#include <dieflow/solvers/iterative_solver.h>
+#include <dieflow/solvers/p_multigrid.h>
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_tools.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+
+namespace dieflow
+{
+  template <int dim>
+  void
+  PMultigrid<dim>::reinit(const dealii::DoFHandler<dim> &dof_handler)
+  {
+    coarse_dofs.reinit(dof_handler.get_triangulation());
+    coarse_dofs.distribute_dofs(coarse_fe);
+    coarse_modes = rigid_body_modes(coarse_dofs);
+
+    const auto &               fe = dof_handler.get_fe();
+    dealii::FullMatrix<double> local(fe.n_dofs_per_cell(), coarse_fe.n_dofs_per_cell());
+    dealii::FETools::get_interpolation_matrix(coarse_fe, fe, local);
+    // f(fine dof, coarse dof, value) for every entry of P, cell by cell.
+    const auto for_each_entry = [&](const auto &f) {
+      std::vector<dealii::types::global_dof_index> fine(fe.n_dofs_per_cell()), coarse(coarse_fe.n_dofs_per_cell());
+      auto coarse_cell = coarse_dofs.begin_active();
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          cell->get_dof_indices(fine);
+          coarse_cell->get_dof_indices(coarse);
+          for (unsigned int i = 0; i < fine.size(); ++i)
+            for (unsigned int j = 0; j < coarse.size(); ++j)
+              if (std::abs(local(i, j)) > 1e-12)
+                f(fine[i], coarse[j], local(i, j));
+          ++coarse_cell;
+        }
+    };
+    dealii::DynamicSparsityPattern pattern(dof_handler.n_dofs(), coarse_dofs.n_dofs());
+    for_each_entry([&](const auto i, const auto j, const double) { pattern.add(i, j); });
+    embedding.clear();
+    embedding_pattern.copy_from(pattern);
+    embedding.reinit(embedding_pattern);
+    // The embedding is continuous: every cell sharing a fine dof gives it
+    // the same row, so setting (not adding) is consistent.
+    for_each_entry([&](const auto i, const auto j, const double value) { embedding.set(i, j, value); });
+    product.clear();
+    coarse_matrix.clear();
+    patterns_built = false;
+  }
+
+
+
+  template <int dim>
+  void
+  PMultigrid<dim>::initialize(const dealii::SparseMatrix<double> &A, const dealii::AffineConstraints<double> &constraints)
+  {
+    matrix = &A;
+    free.reinit(A.m());
+    for (unsigned int i = 0; i < A.m(); ++i)
+      free[i] = constraints.is_constrained(i) ? 0. : 1.;
+
+    // A_1 = P^T D A D P, D = diag(free).
+    // The patterns depend on the mesh only (A's pattern and P): built once
+    // per mesh, then only the values are recomputed.
+    const bool first = !patterns_built;
+    patterns_built   = true;
+    if (first)
+      {
+        product_pattern.reinit(0, 0, 0);
+        product_pattern.compress();
+        product.reinit(product_pattern);
+        coarse_pattern.reinit(0, 0, 0);
+        coarse_pattern.compress();
+        coarse_matrix.reinit(coarse_pattern);
+      }
+    else
+      {
+        product       = 0;
+        coarse_matrix = 0;
+      }
+    A.mmult(product, embedding, free, first);
+    embedding.Tmmult(coarse_matrix, product, free, first);
+    // Coarse dofs that reach only constrained fine dofs have empty rows.
+    double diagonal_sum = 0;
+    for (unsigned int i = 0; i < coarse_matrix.m(); ++i)
+      diagonal_sum += std::abs(coarse_matrix.diag_element(i));
+    for (unsigned int i = 0; i < coarse_matrix.m(); ++i)
+      if (coarse_matrix.diag_element(i) == 0)
+        coarse_matrix.diag_element(i) = diagonal_sum / coarse_matrix.m();
+
+    typename decltype(smoother)::AdditionalData data;
+    // Degree 2 to 5 and ranges 8 to 30 change the outer iterations by
+    // +-10 % on die2d (doc/benchmarks.md); power iteration because slipping
+    // friction makes A non-symmetric.
+    data.degree               = 3;
+    data.smoothing_range      = 15;
+    data.eig_cg_n_iterations  = 12;
+    data.eigenvalue_algorithm = decltype(data)::EigenvalueAlgorithm::power_iteration;
+    smoother.initialize(A, data);
+
+    initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, coarse_modes,
+                                          velocity_amg_data({}, false));
+    residual.reinit(A.m());
+    coarse_residual.reinit(coarse_matrix.m());
+    coarse_correction.reinit(coarse_matrix.m());
+  }
+
+
+
+  template <int dim>
+  void
+  PMultigrid<dim>::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  {
+    smoother.vmult(dst, src);
+    matrix->residual(residual, dst, src);
+    residual.scale(free);
+    embedding.Tvmult(coarse_residual, residual);
+    coarse_amg.vmult(coarse_correction, coarse_residual);
+    embedding.vmult(residual, coarse_correction);
+    residual.scale(free);
+    dst += residual;
+    smoother.step(dst, src);
+  }
+
+  template class PMultigrid<2>;
+} // namespace dieflow
