@@ -506,7 +506,7 @@ namespace dieflow
     dealii::TimerOutput::Scope scope(timer, "linear solve");
     update.reinit(dof_handler.n_dofs());
     if (mixed_form)
-      solve_mixed(update, linear_solver.forcing_tolerance(relative_residual));
+      solve_mixed(update, linear_solver.forcing_tolerance(relative_residual, penalty_factor()));
     else if (augmented)
       linear_solver.solve_iteratively(system_matrix, matrix_symmetric, system_rhs, update);
     else
