@@ -570,15 +570,23 @@ namespace dieflow
         multiplier_update.sadd(-1., 1., dp);
         return;
       }
-    // The direct solver on the penalty form: with q = 0 its step is the
-    // mixed step's (J du = -R_v + B^T q is -R(v) with q = 0).
+    // The direct solver on the penalty form gives the mixed step exactly:
+    // eliminating dp = lambda M^-1 B du - q leaves J du = -R_v + B^T q,
+    // which is -R(v) assembled with q = 0. The carried pressure's update is
+    // then dq = dp - lambda M^-1 B du = -q. Keeping q and its update (not
+    // setting q = 0 at once) matters when the step is shortened: a trial
+    // step s then carries (1 - s) q, where q = 0 left lambda P div of the
+    // contact projections' moves in the pressure, a residual some 1e9 too
+    // large that turned the line search and the Picard step that followed
+    // into a divergence (die2d, Norton-Hoff m = 0.05, 64 cells across).
     ++linear_solver.counts.direct_fallbacks;
-    accepted_multiplier = 0;
-    multiplier          = 0;
-    multiplier_update   = 0;
-    mixed_form          = false;
+    multiplier = 0;
+    mixed_form = false;
     assemble(assembler, assembled_iterate, assembled_linearization, &system_matrix, system_rhs);
     mixed_form = true;
+    multiplier = accepted_multiplier;
+    multiplier_update = accepted_multiplier;
+    multiplier_update *= -1.;
     linear_solver.factorize(system_matrix, matrix_symmetric);
     linear_solver.solve(system_rhs, update);
   }

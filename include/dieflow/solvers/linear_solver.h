@@ -109,12 +109,14 @@ namespace dieflow
     /**
      * The relative tolerance of an iterative solve of the Newton system at
      * an iterate whose relative residual is @p relative_residual: with
-     * 'Inexact Newton', 0.1 x that (times 1e7 / @p penalty_factor where the
-     * penalty factor is larger), between 'Iterative tolerance' and
+     * 'Inexact Newton', 0.1 x that, between 'Iterative tolerance' and
      * 1e-2 (the inexact Newton method, Dembo, Eisenstat and Steihaug 1982:
      * a step solved to a fraction eta of the residual keeps Newton's
      * convergence superlinear when eta -> 0 with the residual, so the early
-     * steps need not be solved to the last digits); else 'Iterative tolerance'.
+     * steps need not be solved to the last digits); else 'Iterative
+     * tolerance'. Where @p penalty_factor exceeds 1e7, the factor 0.1 and
+     * 'Iterative tolerance' are both multiplied by 1e7 / @p penalty_factor
+     * (the carried pressure takes up lambda x the solve's residual).
      */
     double
     forcing_tolerance(const double relative_residual, const double penalty_factor) const;
