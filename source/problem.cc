@@ -284,7 +284,8 @@ namespace dieflow
         saddle_point_solver->set_rigid_body_modes(rigid_body_modes(dof_handler));
         if (linear_solver.p_multigrid)
           saddle_point_solver->use_p_multigrid(dof_handler);
-        saddle_point_solver->constraints = &update_constraints;
+        saddle_point_solver->constraints     = &update_constraints;
+        saddle_point_solver->inner_tolerance = linear_solver.inner_tolerance;
         // The previous mesh's cell stress gives the first pressure (cell
         // means). Without one the pressure starts at zero, at the first
         // assembly: q = -lambda P div v there (a velocity that only meets
@@ -554,7 +555,6 @@ namespace dieflow
     for (unsigned int c = 0; c < mixed.n_cells; ++c)
       inverse_penalty[c] = 1. / mixed.penalty[c];
     mixed.mass_vmult(rhs_pressure, accepted_multiplier, inverse_penalty);
-    saddle_point_solver->inner_tolerance = linear_solver.inner_tolerance;
     const auto info = saddle_point_solver->solve(system_matrix, mixed, system_rhs, rhs_pressure, update, dp,
                                                  matrix_symmetric, tolerance,
                                                  linear_solver.max_block_iterations);

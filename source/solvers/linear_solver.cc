@@ -194,7 +194,7 @@ namespace dieflow
                       "preconditioner (a multigrid cycle on the velocity block, "
                       "'Velocity multigrid'; the pressure mass scaled by the inverse "
                       "viscosity): the direct solver's answer, in a third of its "
-                      "memory and, from about 700,000 unknowns, less time. "
+                      "memory and, from about 700,000 unknowns, as little time. "
                       "iterative, degree 1: the augmented-Lagrangian form (penalty "
                       "'Augmentation factor' x eta, the pressure carried as a cell "
                       "multiplier updated every nonlinear iteration until the "
@@ -399,8 +399,8 @@ namespace dieflow
   {
     // Degree 2: the measured crossover of die2d N1 (doc/benchmarks.md,
     // "p-multigrid"): the mixed form with the p-multigrid cycle takes as
-    // long as the direct solver at 668k unknowns and less from there on,
-    // in a third of the memory. Degree 1: no crossover (the augmented
+    // long as the direct solver from 668k to 1.5M unknowns, in a third of
+    // the memory, and runs on where the factorisation no longer fits. Degree 1: no crossover (the augmented
     // Lagrangian was slower at every size, to 458k unknowns); this is
     // where its factorisation outgrows some 13 GB (extrapolated).
     return degree >= 2 ? 700000 : 3000000;

@@ -225,14 +225,14 @@ namespace dieflow
     // One V-cycle: two cut the outer iterations on die2d N1 by a third (47,
     // 103, 187 per solve against 79, 130, 258 at 16, 32, 64 cells across)
     // but cost 1.2 to 1.5 times the time.
-    if (p_multigrid && constraints != nullptr)
-      p_multigrid->initialize(A, *constraints);
+    PMultigrid<dim> *const cycle = constraints != nullptr ? p_multigrid.get() : nullptr;
+    if (cycle != nullptr)
+      cycle->initialize(A, *constraints);
     else
       initialize_with_rigid_body_modes<dim>(velocity_preconditioner, velocity_matrix, A, modes,
                                             velocity_amg_data({}, true));
-    const VelocityBlockInverse<dim> velocity_inverse(A, velocity_preconditioner,
-                                                     p_multigrid && constraints != nullptr ? p_multigrid.get() : nullptr,
-                                                     symmetric, inner_tolerance, max_inner_iterations);
+    const VelocityBlockInverse<dim> velocity_inverse(A, velocity_preconditioner, cycle, symmetric, inner_tolerance,
+                                                     max_inner_iterations);
     const BlockTriangularPreconditioner<dim> preconditioner(op, velocity_inverse);
 
     dealii::SolverControl control(max_iterations, target, false, false);
