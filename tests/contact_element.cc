@@ -1,11 +1,16 @@
-// The contact element (slave node + master segment, moving master) against
-// finite differences: its residual's derivative in the six velocities
-// u = (v_s, v_1, v_2) must be its tangent, for every friction law and state,
-// with the normal force either given (active set: also dR/dF_n) or from the
-// penalty (then the non-symmetric SL terms). Central differences with step
-// 1e-6 |u| have a truncation error of 1e-12 relative (the element is
-// piecewise quadratic in u): tolerance 1e-7. Also: c_n, c_t are the
-// variations of the gap rates, slip sits on the Coulomb cone, stick below it.
+// The contact element against finite differences, in 2D (slave node +
+// master segment, the paper's three-node element) and 3D (slave + master
+// triangle, the four-node element), both with a moving master: its
+// residual's derivative in the velocities u = (v_s, v_1, .., v_dim) must be
+// its tangent, for every friction law and state, with the normal force
+// either given (active set: also dR/dF_n) or from the penalty (then the
+// non-symmetric SL terms). In 3D the slip direction g_t / |g_t| depends on
+// u, so the tangent holds its derivative. Central differences with step
+// 1e-6 |u| have a truncation error of order 1e-12 relative where the
+// element is smooth (the slip rates here are far from zero): tolerance
+// 1e-7. Also: c_n, C_t are the variations of the gap rates, the master
+// weights interpolate the slave's projection, slip sits on the Coulomb cone
+// opposite to the slip, stick below it.
 #include <dieflow/contact/contact_element.h>
 
 #include "report.h"
@@ -13,123 +18,191 @@
 #include <cmath>
 
 using namespace dieflow;
-using Element = ContactElement<2>;
 
 namespace
 {
-  Element::Vector
+  template <int dim>
+  typename ContactElement<dim>::Vector
   velocities(const double shift)
   {
-    Element::Vector u;
-    for (int i = 0; i < Element::size; ++i)
-      u[i] = std::sin(1.7 * i + shift) * (i < 2 ? 3. : 0.5);
+    typename ContactElement<dim>::Vector u;
+    for (int i = 0; i < ContactElement<dim>::size; ++i)
+      u[i] = std::sin(1.7 * i + shift) * (i < dim ? 3. : 0.5);
     return u;
   }
 
   // Largest relative gap between the tangent and central differences.
-  template <typename Residual>
+  template <int dim, typename Residual>
   double
-  tangent_error(const Residual &residual, const Element::Matrix &tangent, const Element::Vector &u)
+  tangent_error(const Residual &                            residual,
+                const typename ContactElement<dim>::Matrix &tangent,
+                const typename ContactElement<dim>::Vector &u)
   {
-    const double    e = 1e-6 * u.norm();
-    Element::Matrix fd;
-    for (int j = 0; j < Element::size; ++j)
+    const double                         e = 1e-6 * u.norm();
+    typename ContactElement<dim>::Matrix fd;
+    for (int j = 0; j < ContactElement<dim>::size; ++j)
       {
-        Element::Vector plus = u, minus = u;
+        typename ContactElement<dim>::Vector plus = u, minus = u;
         plus[j] += e;
         minus[j] -= e;
         fd.col(j) = (residual(plus) - residual(minus)) / (2 * e);
       }
     return (fd - tangent).norm() / std::max(tangent.norm(), 1e-300);
   }
+
+  /// A slave above a tilted master facet (segment or triangle).
+  template <int dim>
+  ContactElement<dim>
+  element();
+
+  template <>
+  ContactElement<2>
+  element<2>()
+  {
+    const std::array<Point<2>, 2> master{{Point<2>(0, 0), Point<2>(1, 0.2)}};
+    Tensor<1, 2>                  normal;
+    normal[0] = -0.2;
+    normal[1] = 1.0;
+    return ContactElement<2>(Point<2>(0.4, 0.1), master, normal);
+  }
+
+  template <>
+  ContactElement<3>
+  element<3>()
+  {
+    const std::array<Point<3>, 3> master{{Point<3>(0, 0, 0), Point<3>(1, 0.2, 0.1), Point<3>(0.3, 1, -0.2)}};
+    // The metal lies on the side of the triangle that (1-2) x (1-3) points away from.
+    const Tensor<1, 3> normal = -dealii::cross_product_3d(master[1] - master[0], master[2] - master[0]);
+    return ContactElement<3>(Point<3>(0.35, 0.3, 0.2), master, normal);
+  }
+
+  template <int dim>
+  void
+  check()
+  {
+    using Element = ContactElement<dim>;
+    using Slip    = typename Element::Slip;
+    const std::string prefix = std::to_string(dim) + "D: ";
+    const Element     e      = element<dim>();
+
+    // c_n, C_t: the gap rates are linear in u with these gradients.
+    const typename Element::Vector u = velocities<dim>(0.3);
+    Tensor<1, dim>                 relative;
+    double                         weight_sum = 0;
+    for (unsigned int d = 0; d < dim; ++d)
+      relative[d] = u[d];
+    for (unsigned int a = 0; a < dim; ++a)
+      {
+        weight_sum += e.master_weights[a];
+        for (unsigned int d = 0; d < dim; ++d)
+          relative[d] -= e.master_weights[a] * u[dim * (a + 1) + d];
+      }
+    report(prefix + "g_n = (v_s - sum N_a v_a).n is c_n.u", std::abs(e.normal_rate(u) - relative * e.normal) < 1e-14);
+    report(prefix + "g_t = (v_s - sum N_a v_a).t_i is C_t^T u",
+           (e.tangential_rate(u) - e.in_tangent_plane(relative)).norm() < 1e-14);
+    bool orthonormal = std::abs(e.normal.norm() - 1) < 1e-14;
+    for (int i = 0; i < Element::n_tangents; ++i)
+      {
+        orthonormal &= std::abs(e.tangents[i].norm() - 1) < 1e-14 && std::abs(e.tangents[i] * e.normal) < 1e-14;
+        for (int j = 0; j < i; ++j)
+          orthonormal &= std::abs(e.tangents[i] * e.tangents[j]) < 1e-14;
+      }
+    report(prefix + "n and t_i are orthonormal", orthonormal);
+    report(prefix + "the master weights sum to one", std::abs(weight_sum - 1) < 1e-14);
+
+    FrictionLaw coulomb;
+    coulomb.mu                 = 0.3;
+    coulomb.tangential_penalty = 50;
+    FrictionLaw tresca         = coulomb;
+    tresca.kind                = FrictionLaw::Kind::tresca;
+    tresca.shear_bound         = 0.7;
+    FrictionLaw regularised    = coulomb;
+    regularised.kind           = FrictionLaw::Kind::regularised_coulomb;
+    regularised.regularisation_velocity = 0.4;
+
+    const double omega_n = 20, normal_force = -4.0;
+    struct Case
+    {
+      const char *  name;
+      FrictionLaw   law;
+      ContactStatus status;
+    };
+    const Case cases[] = {{"Coulomb stick", coulomb, ContactStatus::stick},
+                          {"Coulomb slip", coulomb, ContactStatus::slip},
+                          {"Tresca slip", tresca, ContactStatus::slip},
+                          {"regularised Coulomb", regularised, ContactStatus::slip}};
+    const Slip direction = e.tangential_rate(u) / e.tangential_rate(u).norm();
+    for (const auto &c : cases)
+      {
+        // Penalty normal: F_n = -omega_n g_n (the slave penetrates: g_n > 0 here).
+        const auto penalty = [&](const typename Element::Vector &x) {
+          return e.penalty(x, omega_n, true, c.law, c.status, direction).residual;
+        };
+        const auto r = e.penalty(u, omega_n, true, c.law, c.status, direction);
+        report(prefix + c.name + ", penalty normal: tangent matches finite differences",
+               e.normal_rate(u) > 0 && tangent_error<dim>(penalty, r.tangent, u) < 1e-7);
+
+        // Given normal force (active set): tangent in u, and dR/dF_n.
+        const auto given = [&](const typename Element::Vector &x) {
+          return e.friction_part(x, normal_force, c.law, c.status, direction).residual;
+        };
+        const auto                     g = e.friction_part(u, normal_force, c.law, c.status, direction);
+        const double                   h = 1e-6;
+        const typename Element::Vector d_normal =
+          (e.friction_part(u, normal_force + h, c.law, c.status, direction).residual -
+           e.friction_part(u, normal_force - h, c.law, c.status, direction).residual) /
+          (2 * h);
+        report(prefix + c.name + ", given normal force: tangent and dR/dF_n match finite differences",
+               tangent_error<dim>(given, g.tangent, u) < 1e-7 &&
+                 (d_normal - g.d_residual_d_normal_force).norm() <= 1e-7 * std::max(d_normal.norm(), 1.));
+      }
+
+    // Slip sits on the cone, opposite to the slip; stick is the paper's penalty.
+    const Slip g_t   = e.tangential_rate(u);
+    const auto slip  = Element::friction(coulomb, ContactStatus::slip, direction, g_t, normal_force);
+    const auto stick = Element::friction(coulomb, ContactStatus::stick, direction, g_t, normal_force);
+    report(prefix + "slip: |F_t| = mu |F_n|, opposite to the slip",
+           std::abs(slip.force.norm() - 0.3 * 4.0) < 1e-14 &&
+             (slip.force / slip.force.norm() + g_t / g_t.norm()).norm() < 1e-14);
+    report(prefix + "stick: F_t = -omega_t g_t", (stick.force + 50 * g_t).norm() < 1e-13);
+
+    // The decision: a trial force inside the cone sticks, outside slips
+    // against the trial force; a slipping node whose velocity reverses sticks.
+    const double c     = 1;
+    Slip         along = Slip::Zero();
+    along[dim - 2]     = 1; // t in 2D, t_2 in 3D
+    report(prefix + "small trial force: stick",
+           Element::decide(coulomb, 0.5 * along, normal_force, Slip::Zero(), c).first == ContactStatus::stick);
+    const auto fast = Element::decide(coulomb, 5. * along, normal_force, Slip::Zero(), c);
+    report(prefix + "large slip rate: slip in its direction",
+           fast.first == ContactStatus::slip && (fast.second - along).norm() < 1e-15);
+    const auto reverse = Element::decide(coulomb, -0.5 * along, normal_force, -1.2 * along, c);
+    report(prefix + "slipping at +, velocity reverses a little: stick", reverse.first == ContactStatus::stick);
+    report(prefix + "no normal force, no friction bound: slip",
+           Element::decide(coulomb, 0.5 * along, 0., Slip::Zero(), c).first == ContactStatus::slip);
+    if constexpr (dim == 3)
+      {
+        // The cone is isotropic: a trial force of the bound's size sticks
+        // in any direction of the tangent plane, one 1 % larger slips
+        // against it.
+        bool isotropic = true;
+        for (double angle = 0; angle < 6.28; angle += 0.5)
+          {
+            const Slip   unit(std::cos(angle), std::sin(angle));
+            const double bound = 0.3 * 4.0;
+            const auto   in    = Element::decide(coulomb, Slip::Zero(), normal_force, 0.999 * bound * unit, c);
+            const auto   out   = Element::decide(coulomb, Slip::Zero(), normal_force, 1.01 * bound * unit, c);
+            isotropic &= in.first == ContactStatus::stick && out.first == ContactStatus::slip &&
+                         (out.second + unit).norm() < 1e-14;
+          }
+        report(prefix + "the Coulomb cone is isotropic in the tangent plane", isotropic);
+      }
+  }
 } // namespace
 
 int
 main()
 {
-  const Point<2>                slave(0.4, 0.1);
-  const std::array<Point<2>, 2> master{{Point<2>(0, 0), Point<2>(1, 0.2)}};
-  Tensor<1, 2>                  normal;
-  normal[0] = -0.2;
-  normal[1] = 1.0;
-  const Element element(slave, master, normal);
-
-  // c_n, c_t: the gap rates are linear in u with these gradients.
-  const Element::Vector u = velocities(0.3);
-  Tensor<1, 2>          relative;
-  for (unsigned int d = 0; d < 2; ++d)
-    relative[d] = u[d] - (1 - element.xi) * u[2 + d] - element.xi * u[4 + d];
-  report("g_n = (v_s - N1 v_1 - N2 v_2).n is c_n.u",
-         std::abs(element.normal_rate(u) - relative * element.normal) < 1e-14);
-  report("g_t = (v_s - N1 v_1 - N2 v_2).t is c_t.u",
-         std::abs(element.tangential_rate(u) - relative * element.tangent) < 1e-14);
-  report("k_n and k_t vanish (the die's geometry does not move with u)",
-         element.k_n.norm() == 0 && element.k_t.norm() == 0);
-
-  FrictionLaw coulomb;
-  coulomb.mu                 = 0.3;
-  coulomb.tangential_penalty = 50;
-  FrictionLaw tresca         = coulomb;
-  tresca.kind                = FrictionLaw::Kind::tresca;
-  tresca.shear_bound         = 0.7;
-  FrictionLaw regularised    = coulomb;
-  regularised.kind           = FrictionLaw::Kind::regularised_coulomb;
-  regularised.regularisation_velocity = 0.4;
-
-  const double omega_n = 20, normal_force = -4.0;
-  struct Case
-  {
-    const char *   name;
-    FrictionLaw    law;
-    ContactStatus  status;
-  };
-  const Case cases[] = {{"Coulomb stick", coulomb, ContactStatus::stick},
-                        {"Coulomb slip", coulomb, ContactStatus::slip},
-                        {"Tresca slip", tresca, ContactStatus::slip},
-                        {"regularised Coulomb", regularised, ContactStatus::slip}};
-  for (const auto &c : cases)
-    {
-      const double sign = element.tangential_rate(u) >= 0 ? 1. : -1.;
-      // Penalty normal: F_n = -omega_n g_n (the slave penetrates: g_n > 0 here).
-      const auto penalty = [&](const Element::Vector &x) {
-        return element.penalty(x, omega_n, true, c.law, c.status, sign).residual;
-      };
-      const auto r = element.penalty(u, omega_n, true, c.law, c.status, sign);
-      report(std::string(c.name) + ", penalty normal: tangent matches finite differences",
-             element.normal_rate(u) > 0 && tangent_error(penalty, r.tangent, u) < 1e-7);
-
-      // Given normal force (active set): tangent in u, and dR/dF_n.
-      const auto given = [&](const Element::Vector &x) {
-        return element.friction_part(x, normal_force, c.law, c.status, sign).residual;
-      };
-      const auto g = element.friction_part(u, normal_force, c.law, c.status, sign);
-      const double e = 1e-6;
-      const Element::Vector d_normal =
-        (element.friction_part(u, normal_force + e, c.law, c.status, sign).residual -
-         element.friction_part(u, normal_force - e, c.law, c.status, sign).residual) /
-        (2 * e);
-      report(std::string(c.name) + ", given normal force: tangent and dR/dF_n match finite differences",
-             tangent_error(given, g.tangent, u) < 1e-7 &&
-               (d_normal - g.d_residual_d_normal_force).norm() <= 1e-7 * std::max(d_normal.norm(), 1.));
-    }
-
-  // Slip sits on the cone, opposite to the slip; stick is the paper's penalty.
-  const double g_t   = element.tangential_rate(u);
-  const auto   slip  = Element::friction(coulomb, ContactStatus::slip, g_t > 0 ? 1 : -1, g_t, normal_force);
-  const auto   stick = Element::friction(coulomb, ContactStatus::stick, 1, g_t, normal_force);
-  report("slip: |F_t| = mu |F_n|, opposing the slip",
-         std::abs(std::abs(slip.force) - 0.3 * 4.0) < 1e-14 && slip.force * g_t < 0);
-  report("stick: F_t = -omega_t g_t", std::abs(stick.force + 50 * g_t) < 1e-14);
-
-  // The decision: a trial force inside the cone sticks, outside slips
-  // against the trial force; a slipping node whose velocity reverses sticks.
-  const double c = 1;
-  report("small trial force: stick",
-         Element::decide(coulomb, 0.5, normal_force, 0., c).first == ContactStatus::stick);
-  const auto fast = Element::decide(coulomb, 5., normal_force, 0., c);
-  report("large slip rate: slip in its direction", fast.first == ContactStatus::slip && fast.second == 1.);
-  const auto reverse = Element::decide(coulomb, -0.5, normal_force, -1.2, c);
-  report("slipping at +, velocity reverses a little: stick", reverse.first == ContactStatus::stick);
-  report("no normal force, no friction bound: slip",
-         Element::decide(coulomb, 0.5, 0., 0., c).first == ContactStatus::slip);
+  check<2>();
+  check<3>();
 }

@@ -281,6 +281,7 @@ namespace dieflow
     law.kind                    = direction.regularised ? FrictionLaw::Kind::regularised_coulomb : parameters.law;
     law.tangential_penalty      = penalty_of(parameters.tangential_penalty_factor, direction.wall);
     law.regularisation_velocity = direction.regularised ? cycling_velocity : parameters.regularisation_velocity;
+    law.slip_floor              = 1e-9 * largest_speed;
     return law;
   }
 
@@ -324,7 +325,7 @@ namespace dieflow
         {
           direction.active = source->active;
           direction.status = source->status;
-          direction.sign   = source->sign;
+          direction.slip_direction = source->slip_direction;
           // The contact pressure too: Coulomb slip linearises about the
           // normal force, and with none the first solve on the new mesh
           // would let every slipping node slide frictionless.
@@ -352,9 +353,9 @@ namespace dieflow
                                          ContactElement<dim>(wall_node.position, wall.facet, wall.normal),
                                          true,
                                          ContactStatus::slip,
-                                         1.,
+                                         Slip::Unit(0),
                                          0.,
-                                         0.,
+                                         Slip::Zero(),
                                          0.,
                                          0,
                                          false,
@@ -376,7 +377,7 @@ namespace dieflow
   ContactSet<dim>::sticks_exactly(const Node &node, const Direction &direction) const
   {
     return parameters.stick_enforcement == "exact" && !uses_penalty() && !direction.regularised && direction.active &&
-           direction.status == ContactStatus::stick && node.n_held() == 1;
+           direction.status == ContactStatus::stick && node.n_held() < dim;
   }
 
 
@@ -386,25 +387,25 @@ namespace dieflow
   ContactSet<dim>::decompose_reaction(const Node &                  node,
                                       const dealii::Vector<double> &flow_residual,
                                       std::vector<double> &         forces,
-                                      std::vector<double> &         stick_forces) const
+                                      std::vector<Slip> &           stick_forces) const
   {
     // The reaction R at the node on the active normals and those of the
     // node's fixed walls: R = sum_k F_k n_k + a tangential part (the
-    // friction); least squares through the Gram matrix.
+    // friction); least squares through the Gram matrix. A node that sticks
+    // exactly carries the rest, R - sum_k F_k n_k, as its friction force:
+    // its components on the die's tangents t_i. (Not by least squares on
+    // normals and tangents together: in 3D a tangent of the die can be the
+    // normal of a symmetry plane through the node, whose reaction is no
+    // friction.)
     forces.assign(node.directions.size(), 0.);
-    stick_forces.assign(node.directions.size(), 0.);
+    stick_forces.assign(node.directions.size(), Slip::Zero());
     std::vector<Tensor<1, dim>> normals;
-    std::vector<int>            direction_of; // k for a normal, -2-k for a stick tangent, -1 fixed
+    std::vector<int>            direction_of; // k for direction k's normal, -1 for a fixed wall
     for (unsigned int k = 0; k < node.directions.size(); ++k)
       if (node.directions[k].active)
         {
           normals.push_back(node.directions[k].wall.normal);
           direction_of.push_back(k);
-          if (sticks_exactly(node, node.directions[k]))
-            {
-              normals.push_back(node.directions[k].element.tangent);
-              direction_of.push_back(-2 - static_cast<int>(k));
-            }
         }
     if (normals.empty())
       return;
@@ -427,11 +428,16 @@ namespace dieflow
       }
     G.gauss_jordan();
     G.vmult(a, rhs);
+    Tensor<1, dim> tangential = reaction;
     for (unsigned int i = 0; i < m; ++i)
-      if (direction_of[i] >= 0)
-        forces[direction_of[i]] = a[i];
-      else if (direction_of[i] <= -2)
-        stick_forces[-2 - direction_of[i]] = a[i];
+      {
+        if (direction_of[i] >= 0)
+          forces[direction_of[i]] = a[i];
+        tangential -= a[i] * normals[i];
+      }
+    for (unsigned int k = 0; k < node.directions.size(); ++k)
+      if (sticks_exactly(node, node.directions[k]))
+        stick_forces[k] = node.directions[k].element.in_tangent_plane(tangential);
   }
 
 
@@ -443,7 +449,8 @@ namespace dieflow
                           std::ostream &                log)
   {
     StateChanges        changes;
-    std::vector<double> forces, stick_forces;
+    std::vector<double> forces;
+    std::vector<Slip>   stick_forces;
     std::vector<std::pair<unsigned int, unsigned int>> changed_normal, changed_tangential; // (node, direction)
     const bool          penalty = uses_penalty();
 
@@ -452,7 +459,9 @@ namespace dieflow
     // largest normal force. Where the metal just touches the die (p and v.n
     // both about zero, as along the end of a land), the plain rule flips
     // such nodes back and forth on round-off-sized forces.
-    std::vector<std::vector<double>> all_forces(nodes.size()), all_stick_forces(nodes.size());
+    std::vector<std::vector<double>> all_forces(nodes.size());
+    std::vector<std::vector<Slip>>   all_stick_forces(nodes.size());
+    largest_speed = v.linfty_norm();
     double                           largest_force = 0;
     if (!penalty)
       for (unsigned int i = 0; i < nodes.size(); ++i)
@@ -509,19 +518,19 @@ namespace dieflow
           }
 
         // Tangential direction: a node held by one wall slides along it.
-        const bool sliding = penalty || node.n_held() == 1;
+        const bool sliding = penalty || node.n_held() < dim;
         for (unsigned int k = 0; k < node.directions.size(); ++k)
           {
             Direction &dir   = node.directions[k];
-            auto       state = std::make_pair(ContactStatus::separated, dir.sign);
+            auto       state = std::make_pair(ContactStatus::separated, dir.slip_direction);
             if (dir.active && sliding)
               {
                 const FrictionLaw law       = law_of(dir);
-                const double      slip_rate = dir.element.tangential_rate(u);
-                const double      current =
+                const Slip        slip_rate = dir.element.tangential_rate(u);
+                const Slip        current =
                   sticks_exactly(node, dir) ?
                     dir.stick_force :
-                    ContactElement<dim>::friction(law, dir.status, dir.sign, slip_rate, dir.normal_force).force;
+                    ContactElement<dim>::friction(law, dir.status, dir.slip_direction, slip_rate, dir.normal_force).force;
                 state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
                 // A slipping node whose velocity reversed passed through rest
                 // under the friction force. The second time it does so in a
@@ -529,12 +538,12 @@ namespace dieflow
                 // the cone, then in the direction the reaction pushes: near
                 // dead zones, where the slip rates are small, nodes otherwise
                 // flip their slip direction from one iteration to the next.
-                if (dir.status == ContactStatus::slip && slip_rate * dir.sign < 0 && !law.frictionless() &&
+                if (dir.status == ContactStatus::slip && slip_rate.dot(dir.slip_direction) < 0 && !law.frictionless() &&
                     law.kind != FrictionLaw::Kind::regularised_coulomb && ++dir.reversals >= 2)
                   state.first = ContactStatus::stick;
               }
             else if (dir.active)
-              state = std::make_pair(ContactStatus::stick, dir.sign);
+              state = std::make_pair(ContactStatus::stick, dir.slip_direction);
             if (dir.regularised)
               {
                 // A smooth law has no stick and no states to settle.
@@ -545,14 +554,17 @@ namespace dieflow
             // state; the tangential state counts among those that stay.
             const bool frictional = !law_of(dir).frictionless();
             const bool stays      = dir.active && dir.status != ContactStatus::separated;
-            if (stays && (state.first != dir.status ||
-                          (frictional && state.first == ContactStatus::slip && state.second != dir.sign)))
+            // The slip direction changed when it turned by more than 90
+            // degrees (in 2D: reversed); in 3D it follows the slip rate
+            // between updates, so smaller turns are no change of state.
+            if (stays && (state.first != dir.status || (frictional && state.first == ContactStatus::slip &&
+                                                        state.second.dot(dir.slip_direction) < 0)))
               {
                 ++changes.tangential;
                 changed_tangential.emplace_back(i, k);
               }
             dir.status = state.first;
-            dir.sign   = state.second;
+            dir.slip_direction = state.second;
           }
       }
 
@@ -563,7 +575,7 @@ namespace dieflow
     std::size_t signature = nodes.size();
     for (const auto &node : nodes)
       for (const auto &dir : node.directions)
-        signature = signature * 1000003u ^ (dir.active * 7 + static_cast<int>(dir.status) * 2 + (dir.sign > 0));
+        signature = signature * 1000003u ^ (dir.active * 7 + static_cast<int>(dir.status) * 2 + (dir.slip_direction[0] > 0));
     if (changes.total() > 0 &&
         std::find(recent_signatures.begin(), recent_signatures.end(), signature) != recent_signatures.end())
       {
@@ -604,7 +616,7 @@ namespace dieflow
             {
               normals.push_back(dir.wall.normal);
               if (sticks_exactly(node, dir))
-                normals.push_back(dir.element.tangent);
+                normals.insert(normals.end(), dir.element.tangents.begin(), dir.element.tangents.end());
             }
         if (!normals.empty())
           constrain_normal_components<dim>(node.dofs, normals, std::vector<double>(normals.size(), 0.), constraints);
@@ -621,7 +633,7 @@ namespace dieflow
     const bool                            penalty = uses_penalty();
     for (const auto &node : nodes)
       {
-        if (!penalty && node.n_held() != 1)
+        if (!penalty && node.n_held() >= dim)
           continue; // separated, or held by two walls: no friction work
         const auto u = element_velocity(node, v);
         for (const auto &dir : node.directions)
@@ -637,8 +649,8 @@ namespace dieflow
                                                  true,
                                                  law,
                                                  dir.status,
-                                                 dir.sign) :
-                             dir.element.friction_part(u, dir.normal_force, law, dir.status, dir.sign);
+                                                 dir.slip_direction) :
+                             dir.element.friction_part(u, dir.normal_force, law, dir.status, dir.slip_direction);
             ContactContribution<dim> c;
             c.dofs = node.dofs;
             c.residual.reinit(dim);
@@ -693,20 +705,23 @@ namespace dieflow
             r.vertex         = node.vertex;
             r.id             = dir.wall.id;
             r.normal         = dir.wall.normal;
-            r.tangent        = dir.element.tangent;
+            r.tangent        = dir.element.tangents[0];
             r.weight         = dir.wall.weight;
             r.length         = dir.wall.length;
             r.status         = dir.active ? dir.status : ContactStatus::separated;
             r.normal_rate    = dir.element.normal_rate(u);
-            r.slip_rate      = dir.element.tangential_rate(u);
+            const Slip slip  = dir.element.tangential_rate(u);
+            r.slip_velocity  = dir.element.in_space(slip);
             r.normal_force   = dir.active ? dir.normal_force : 0.;
             r.free_reaction  = dir.active ? 0. : dir.free_reaction;
             const auto law   = law_of(dir);
             r.friction_bound = law.kind == FrictionLaw::Kind::tresca ? law.shear_bound : law.mu * std::abs(r.normal_force);
-            r.friction_force = sticks_exactly(node, dir) ? dir.stick_force :
-                               (dir.active && (uses_penalty() || node.n_held() == 1)) ?
-                                 ContactElement<dim>::friction(law, dir.status, dir.sign, r.slip_rate, r.normal_force).force :
-                                 0.;
+            const Slip friction =
+              sticks_exactly(node, dir) ? dir.stick_force :
+              (dir.active && (uses_penalty() || node.n_held() < dim)) ?
+                                          ContactElement<dim>::friction(law, dir.status, dir.slip_direction, slip, r.normal_force).force :
+                                          Slip::Zero();
+            r.friction_force = dir.element.in_space(friction);
             result.push_back(r);
           }
       }
@@ -729,7 +744,7 @@ namespace dieflow
     for (const auto &r : results)
       {
         summary.die_normal_force[r.id] += std::abs(r.normal_force);
-        summary.die_friction_force[r.id] += std::abs(r.friction_force);
+        summary.die_friction_force[r.id] += r.friction_force.norm();
         summary.contact_length[r.id][r.status == ContactStatus::separated ? 0 :
                                      r.status == ContactStatus::stick     ? 1 :
                                                                             2] += r.length;
@@ -739,7 +754,7 @@ namespace dieflow
       {
         largest_force    = std::max(largest_force, std::abs(r.normal_force));
         largest_bound    = std::max(largest_bound, r.friction_bound);
-        largest_friction = std::max(largest_friction, std::abs(r.friction_force));
+        largest_friction = std::max(largest_friction, r.friction_force.norm());
       }
     summary.friction_power = 0;
     summary.contact_penetration = summary.contact_tension = summary.friction_excess = summary.stick_slip_rate = 0;
@@ -751,10 +766,10 @@ namespace dieflow
         if (r.status == ContactStatus::separated)
           continue;
         summary.contact_tension = std::max(summary.contact_tension, r.normal_force);
-        summary.friction_excess = std::max(summary.friction_excess, std::abs(r.friction_force) - r.friction_bound);
+        summary.friction_excess = std::max(summary.friction_excess, r.friction_force.norm() - r.friction_bound);
         if (r.status == ContactStatus::stick)
-          summary.stick_slip_rate = std::max(summary.stick_slip_rate, std::abs(r.slip_rate));
-        summary.friction_power = std::max(summary.friction_power, r.friction_force * r.slip_rate);
+          summary.stick_slip_rate = std::max(summary.stick_slip_rate, r.slip_velocity.norm());
+        summary.friction_power = std::max(summary.friction_power, r.friction_force * r.slip_velocity);
       }
     summary.friction_power /= std::max(largest_friction * speed_scale, 1e-300);
     summary.contact_penetration /= std::max(speed_scale, 1e-300);
@@ -882,6 +897,10 @@ namespace dieflow
     for (const auto &node : nodes)
       if (node.directions.size() + node.fixed_normals.size() > 1)
         hot.push_back(node.position);
+    // 3D: the corners and edges only (a wall there is a surface, whose
+    // state boundaries are lines that no chain of nodes follows).
+    if constexpr (dim == 3)
+      return hot;
     for (const auto id : parameters.die_ids)
       {
         std::vector<const ContactNodeResult<dim> *> points;
@@ -907,6 +926,11 @@ namespace dieflow
                                   const std::vector<dealii::SymmetricTensor<2, dim>> *vertex_stress,
                                   const std::string &                          directory) const
   {
+    if constexpr (dim == 3)
+      {
+        write_surface_fields(results, directory);
+        return;
+      }
     for (const auto id : parameters.die_ids)
       {
         std::vector<const ContactNodeResult<dim> *> points;
@@ -937,16 +961,53 @@ namespace dieflow
           {
             const auto & r        = *chain[i];
             const double pressure = -r.normal_force / r.weight;
-            const double friction = r.friction_force / r.weight;
+            const double friction = r.friction_force * r.tangent / r.weight;
             const double shear    = (vertex_stress && r.vertex != dealii::numbers::invalid_unsigned_int &&
                                   r.status != ContactStatus::separated) ?
                                       r.tangent * ((*vertex_stress)[r.vertex] * r.normal) :
                                       friction;
             out << std::setprecision(8) << s[i] << ' ' << r.position[0] << ' ' << r.position[1] << ' '
-                << pressure << ' ' << friction << ' ' << r.normal_rate << ' ' << r.slip_rate << ' '
+                << pressure << ' ' << friction << ' ' << r.normal_rate << ' ' << r.slip_velocity * r.tangent << ' '
                 << static_cast<int>(r.status) << ' ' << (vertex_stress ? recovered[i] : pressure) << ' ' << shear
                 << '\n';
           }
+        file.commit();
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::write_surface_fields(const std::vector<ContactNodeResult<dim>> &results,
+                                        const std::string &                        directory) const
+  {
+    for (const auto id : parameters.die_ids)
+      {
+        AtomicFile    file(directory + "/die-surface-" + std::to_string(id) + ".dat");
+        std::ostream &out = file.stream();
+        out << "# die wall id " << id
+            << ": one line per contact node (and wall direction). contact_pressure, friction_stress: the nodal "
+               "forces over their boundary weights; the friction stress and the slip velocity are vectors in the "
+               "tangent plane\n"
+            << "# x(mm) y(mm) z(mm) contact_pressure(MPa) friction_stress_x friction_stress_y friction_stress_z "
+               "|friction_stress|(MPa) normal_velocity(mm/s) slip_velocity_x slip_velocity_y slip_velocity_z "
+               "status(0 separated, 1 stick, 2 slip)\n";
+        for (const auto &r : results)
+          if (r.id == id)
+            {
+              const Tensor<1, dim> friction = r.friction_force / r.weight;
+              out << std::setprecision(8);
+              for (unsigned int d = 0; d < dim; ++d)
+                out << r.position[d] << ' ';
+              out << -r.normal_force / r.weight << ' ';
+              for (unsigned int d = 0; d < dim; ++d)
+                out << friction[d] << ' ';
+              out << friction.norm() << ' ' << r.normal_rate;
+              for (unsigned int d = 0; d < dim; ++d)
+                out << ' ' << r.slip_velocity[d];
+              out << ' ' << static_cast<int>(r.status) << '\n';
+            }
         file.commit();
       }
   }
@@ -1028,4 +1089,10 @@ namespace dieflow
                            const dealii::Vector<double> &, const AffineConstraints<double> &, const Linearization,
                            dealii::SparseMatrix<double> *, dealii::Vector<double> &, dealii::Vector<double> &,
                            MixedPenalty<2> *);
+  template class ContactSet<3>;
+  template AssemblyInfo
+  assemble_with_contact<3>(const FlowAssembler<3> &, const ContactSet<3> &, const DoFHandler<3> &,
+                           const dealii::Vector<double> &, const AffineConstraints<double> &, const Linearization,
+                           dealii::SparseMatrix<double> *, dealii::Vector<double> &, dealii::Vector<double> &,
+                           MixedPenalty<3> *);
 } // namespace dieflow

@@ -73,13 +73,15 @@ namespace dieflow
     unsigned int       vertex;
     BoundaryId         id;
     Tensor<1, dim>     normal;
-    /// The direction of F_t and v.t.
+    /// t (2D: the direction of the signed profile values; 3D: t_1).
     Tensor<1, dim>     tangent;
     /// The node's boundary weight (int phi dA) and its share of the wall's arc length (int phi ds).
     double             weight, length;
     ContactStatus      status;
-    /// F_n (<= 0 pressing) and F_t, nodal forces; v.n and v.t.
-    double normal_force, friction_force, normal_rate, slip_rate;
+    /// F_n (<= 0 pressing), a nodal force, and v.n.
+    double normal_force, normal_rate;
+    /// The friction force (nodal, in the tangent plane) and the slip velocity.
+    Tensor<1, dim> friction_force, slip_velocity;
     /// The normal reaction where separated (must vanish at equilibrium).
     double free_reaction;
     double friction_bound;
@@ -205,6 +207,14 @@ namespace dieflow
                    const std::string &                          directory) const;
 
     /**
+     * 3D: one table per die id of the contact nodes (die-surface-ID.dat):
+     * position, contact pressure, friction stress vector, normal and slip
+     * velocity, status; a die-surface field to plot or to map.
+     */
+    void
+    write_surface_fields(const std::vector<ContactNodeResult<dim>> &results, const std::string &directory) const;
+
+    /**
      * Where the die needs a fine mesh: the corners (nodes with more than one
      * wall direction) and the nodes whose state differs from the next
      * node's along the wall (stick turning to slip, contact opening).
@@ -242,16 +252,18 @@ namespace dieflow
     }
 
   private:
+    using Slip = typename ContactElement<dim>::Slip;
     struct Direction
     {
       WallDirection<dim>  wall;
       ContactElement<dim> element;
       bool                active;
       ContactStatus       status;
-      double              sign;
+      /// The slip direction of the state, in the tangent basis (2D: the sign).
+      Slip                slip_direction;
       double              normal_force;
-      /// t.R_flow of a node held at rest by the exact stick constraint.
-      double              stick_force;
+      /// t_i.R_flow of a node held at rest by the exact stick constraint.
+      Slip                stick_force;
       /// n.R_flow at a separated direction: zero at equilibrium.
       double              free_reaction;
       /// How often the slip direction reversed in this cycle.
@@ -298,12 +310,12 @@ namespace dieflow
     bool
     sticks_exactly(const Node &node, const Direction &direction) const;
     /// The node's reaction on its active normals (into @p forces) and, where
-    /// it sticks exactly, on the tangent (into @p stick_forces).
+    /// it sticks exactly, on the tangents (into @p stick_forces).
     void
     decompose_reaction(const Node &                  node,
                        const dealii::Vector<double> &flow_residual,
                        std::vector<double> &         forces,
-                       std::vector<double> &         stick_forces) const;
+                       std::vector<Slip> &           stick_forces) const;
 
     ContactParameters          parameters;
     std::vector<Node>          nodes;
@@ -311,6 +323,8 @@ namespace dieflow
     double                     penalty_scale   = 1;
     /// v0 of the friction laws regularised because their states cycled.
     double                     cycling_velocity = 1;
+    /// The largest speed of the last update (the 3D slip floor's scale).
+    double                     largest_speed = 1;
     std::vector<std::size_t>   recent_signatures;
   };
 

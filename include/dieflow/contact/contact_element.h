@@ -42,6 +42,9 @@ namespace dieflow
     double tangential_penalty = 0;
     /// v0 of the regularised law.
     double regularisation_velocity = 1;
+    /// 3D: below this slip rate (velocity units) the slip direction is the
+    /// state's, not g_t / |g_t|, whose derivative grows as 1 / |g_t|.
+    double slip_floor = 0;
 
     bool
     frictionless() const
@@ -51,36 +54,49 @@ namespace dieflow
   };
 
   /**
-   * The paper's three-node contact element in velocity form (2D): a slave
-   * node s of the metal's boundary and a master segment 1-2 of the die
-   * surface. With the unknowns u = (v_s, v_1, v_2) (the master velocities
-   * are zero for a rigid, fixed die, but the element is written for a moving
-   * master so that the four-node 3D element can follow), the gap rates are
-   *   g_n = (v_s - N_1 v_1 - N_2 v_2) . n,  g_t = (v_s - N_1 v_1 - N_2 v_2) . t,
-   * with N_1 = 1 - xi, N_2 = xi at the slave's projection xi on the segment,
-   * n the outward normal of the metal and t = (-n_y, n_x). Their variations
-   * are c_n = dg_n/du = (n, -N_1 n, -N_2 n) and c_t likewise. In the steady,
-   * Eulerian velocity problem the die geometry does not move with u, so
-   * n, t and xi do not depend on u and the second variations k_n, k_t
-   * vanish (they would not for a deformable master).
+   * The paper's contact element in velocity form: a slave node s of the
+   * metal's boundary against a master facet of the die, the segment 1-2 in
+   * 2D (the three-node element) and the triangle 1-2-3 in 3D (the four-node
+   * element). With the unknowns u = (v_s, v_1, .., v_dim) (the master
+   * velocities are zero for a fixed die; a moving die gives them), the gap
+   * rates are
+   *   g_n = (v_s - sum_a N_a v_a) . n,   g_t,i = (v_s - sum_a N_a v_a) . t_i,
+   * with N_a the master's shape functions at the slave's projection
+   * (N = (1 - xi, xi) on the segment, barycentric on the triangle), n the
+   * outward normal of the metal and t_i an orthonormal tangent basis:
+   * t = (-n_y, n_x) in 2D; in 3D t_1 along the edge 1-2 and t_2 = n x t_1
+   * (the paper's tau along 1-3, made orthogonal to t_1 so that the cone
+   * sqrt(Sigma_t^2 + Sigma_tau^2) <= mu |Sigma_n| is isotropic). Their
+   * variations are c_n = dg_n/du = (n, -N_1 n, ..) and the columns of C_t.
+   * In the steady, Eulerian velocity problem the die's geometry does not
+   * move with u, so n, t_i and N_a do not depend on u and the second
+   * variations of the gaps vanish.
    *
-   * Forces on the slave are F_n n + F_t t (F_n <= 0 pushes into the metal);
-   * the element's residual, as internal minus external force, is
-   *   R_c = -(F_n c_n + F_t c_t)                       (eq. (18)).
-   * Stick: F_t = -omega_t g_t. Slip: F_t = -mu |F_n| sign(g_t); the
+   * Forces on the slave are F_n n + sum_i F_t,i t_i (F_n <= 0 pushes into
+   * the metal); the element's residual, as internal minus external force, is
+   *   R_c = -(F_n c_n + C_t F_t)                          (eq. (18)).
+   * Stick: F_t = -omega_t g_t (eqs. (12), (16)). Slip: F_t = -mu |F_n| s
+   * with s the slip direction in the tangent plane, s = g_t / |g_t|; its
+   * derivative mu F_n (I - s s^T) / |g_t| is part of the tangent in 3D and
+   * vanishes in 2D, where s = +-1 is the frozen sign of the state. The
    * dependence of F_t on F_n is the non-symmetric part of the linearisation
    * (the paper's SL1, SL2 terms).
    */
   template <int dim>
   class ContactElement
   {
-    static_assert(dim == 2, "The contact element is two-dimensional (slave + master segment).");
+    static_assert(dim == 2 || dim == 3, "The contact element is two- or three-dimensional.");
 
   public:
-    static constexpr int n_nodes = dim + 1;
-    static constexpr int size    = n_nodes * dim;
-    using Vector                 = Eigen::Matrix<double, size, 1>;
-    using Matrix                 = Eigen::Matrix<double, size, size>;
+    static constexpr int n_nodes    = dim + 1;
+    static constexpr int size       = n_nodes * dim;
+    static constexpr int n_tangents = dim - 1;
+    using Vector                    = Eigen::Matrix<double, size, 1>;
+    using Matrix                    = Eigen::Matrix<double, size, size>;
+    /// A tangential quantity (slip rate, friction force, slip direction) in
+    /// the tangent basis t_i.
+    using Slip       = Eigen::Matrix<double, n_tangents, 1>;
+    using SlipMatrix = Eigen::Matrix<double, n_tangents, n_tangents>;
 
     ContactElement(const Point<dim> &                 slave,
                    const std::array<Point<dim>, dim> &master,
@@ -89,9 +105,9 @@ namespace dieflow
     /// The friction force F_t and its derivatives for a given state.
     struct Friction
     {
-      double force          = 0;
-      double d_force_d_rate = 0;
-      double d_force_d_normal_force = 0;
+      Slip       force                  = Slip::Zero();
+      SlipMatrix d_force_d_rate         = SlipMatrix::Zero();
+      Slip       d_force_d_normal_force = Slip::Zero();
     };
 
     /**
@@ -103,19 +119,23 @@ namespace dieflow
      * with F_t = -omega_t g_t (a sticking node) it is the paper's trial
      * -(omega_t + c) g_t. The slip direction opposes the trial force.
      */
-    static std::pair<ContactStatus, double>
+    static std::pair<ContactStatus, Slip>
     decide(const FrictionLaw &law,
-           const double       slip_rate,
+           const Slip &       slip_rate,
            const double       normal_force,
-           const double       friction_force,
+           const Slip &       friction_force,
            const double       c);
 
-    /// F_t in the given state (@p sign: the frozen slip direction).
+    /**
+     * F_t in the given state. @p direction: the state's slip direction, the
+     * direction of slip in 2D; in 3D only where |g_t| is below the law's
+     * slip floor (a node at rest has no direction of its own).
+     */
     static Friction
     friction(const FrictionLaw & law,
              const ContactStatus status,
-             const double        sign,
-             const double        slip_rate,
+             const Slip &        direction,
+             const Slip &        slip_rate,
              const double        normal_force);
 
     struct Result
@@ -123,30 +143,30 @@ namespace dieflow
       Vector residual;
       Matrix tangent;
       /// dR_c / dF_n at fixed u: how the residual follows the normal force.
-      Vector        d_residual_d_normal_force;
-      double        normal_force   = 0;
-      double        friction_force = 0;
+      Vector d_residual_d_normal_force;
+      double normal_force   = 0;
+      Slip   friction_force = Slip::Zero();
     };
 
     /**
      * Friction only, at a given normal force F_n (the active-set normal
      * enforcement, where F_n is the reaction of the constraint v.n = 0):
-     * R_c = -F_t c_t, dR_c/du = -(dF_t/dg_t) c_t c_t^T, and
-     * dR_c/dF_n = -(dF_t/dF_n) c_t, which the caller chains with dF_n/du.
+     * R_c = -C_t F_t, dR_c/du = -C_t (dF_t/dg_t) C_t^T, and
+     * dR_c/dF_n = -C_t dF_t/dF_n, which the caller chains with dF_n/du.
      */
     Result
     friction_part(const Vector &      u,
                   const double        normal_force,
                   const FrictionLaw & law,
                   const ContactStatus status,
-                  const double        sign) const;
+                  const Slip &        direction) const;
 
     /**
      * Penalty normal enforcement (the paper's omega_n, eq. (20)): F_n =
      * -omega_n g_n where the slave penetrates (g_n > 0, @p in_contact),
      * zero otherwise, and friction at that F_n with the full linearisation
-     *   dR_c/du = omega_n c_n c_n^T - (dF_t/dg_t) c_t c_t^T
-     *             + omega_n (dF_t/dF_n) c_t c_n^T.
+     *   dR_c/du = omega_n c_n c_n^T - C_t (dF_t/dg_t) C_t^T
+     *             + omega_n C_t (dF_t/dF_n) c_n^T.
      */
     Result
     penalty(const Vector &      u,
@@ -154,28 +174,31 @@ namespace dieflow
             const bool          in_contact,
             const FrictionLaw & law,
             const ContactStatus status,
-            const double        sign) const;
+            const Slip &        direction) const;
 
     double
     normal_rate(const Vector &u) const
     {
       return c_n.dot(u);
     }
-    double
+    Slip
     tangential_rate(const Vector &u) const
     {
-      return c_t.dot(u);
+      return c_t.transpose() * u;
     }
+    /// sum_i a_i t_i: a tangential quantity as a vector in space.
+    Tensor<1, dim>
+    in_space(const Slip &a) const;
+    /// The components of a vector along the tangents t_i.
+    Slip
+    in_tangent_plane(const Tensor<1, dim> &a) const;
 
-    Tensor<1, dim> normal;
-    Tensor<1, dim> tangent;
-    /// Projection of the slave on the master segment, 0 at vertex 1.
-    double xi;
-    Vector c_n;
-    Vector c_t;
-    /// Second variations: zero for a die whose geometry does not move with u.
-    Matrix k_n;
-    Matrix k_t;
+    Tensor<1, dim>                       normal;
+    std::array<Tensor<1, dim>, n_tangents> tangents;
+    /// The master's shape functions N_a at the slave's projection.
+    std::array<double, dim> master_weights;
+    Vector                  c_n;
+    Eigen::Matrix<double, size, n_tangents> c_t;
   };
 } // namespace dieflow
 
