@@ -340,4 +340,5 @@ namespace dieflow
   }
 
   template class BoundaryConditions<2>;
+  template class BoundaryConditions<3>;
 } // namespace dieflow

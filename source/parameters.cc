@@ -32,7 +32,9 @@ namespace dieflow
                       "bars, wires, tubes, cylinders. The strain rate gains the "
                       "hoop rate v_y/y, every integral the factor 2 pi y, and "
                       "forces are the whole body's, in N. Boundary parts on the "
-                      "axis y = 0 must be Symmetry ids (v_y = 0 there).");
+                      "axis y = 0 must be Symmetry ids (v_y = 0 there). With "
+                      "Dimension = 3 the mesh is the body itself: leave it at "
+                      "plane strain (summary.json says 3d; forces in N).");
     prm.declare_entry("Output directory",
                       "output/die2d",
                       Anything(),
@@ -90,6 +92,13 @@ namespace dieflow
     write_vtu        = prm.get_bool("Write VTU");
     write_mesh_svg   = prm.get_bool("Write mesh SVG");
     write_gnuplot    = prm.get_bool("Write gnuplot");
+    require(dimension == 2 || geometry == Geometry::plane_strain,
+            "Geometry",
+            "axisymmetric is the meridian half-plane of a 2D mesh; with Dimension = 3 the mesh is the "
+            "body itself (leave Geometry at plane strain, or set Dimension = 2)");
+    require(dimension == 2 || !write_mesh_svg,
+            "Write mesh SVG",
+            "draws a 2D mesh only; set it false with Dimension = 3 (the VTU shows the 3D mesh)");
     require(!output_directory.empty(),
             "Output directory",
             "must not be empty (use . for the working directory)");

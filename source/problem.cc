@@ -127,7 +127,11 @@ namespace dieflow
             const auto E = mesh_parameters.die2d.corner('E');
             // In the land also when it is shorter than 2 mm.
             const double before = std::min(1., 0.5 * mesh_parameters.die2d.land_length);
-            probe               = dealii::Point<dim>(E[0] - before, 0.5 * E[1]);
+            probe               = dealii::Point<dim>();
+            (*probe)[0]         = E[0] - before;
+            (*probe)[1]         = 0.5 * E[1];
+            if constexpr (dim == 3)
+              (*probe)[2] = 0.5 * mesh_parameters.die2d.depth;
           }
       }
     else if (!probe_text.empty())
@@ -1259,7 +1263,7 @@ namespace dieflow
     dealii::Timer run_timer;
     RunSummary    summary;
     summary.velocity_degree = fe.degree;
-    summary.geometry        = geometry_name(coordinates.kind());
+    summary.geometry        = dim == 3 ? "3d" : geometry_name(coordinates.kind());
     const std::string summary_file = run_parameters.output_directory + "/summary.json";
 
     for (unsigned int cycle = 0; cycle < refinement.cycles; ++cycle)
@@ -1384,4 +1388,5 @@ namespace dieflow
   }
 
   template class DieFlowProblem<2>;
+  template class DieFlowProblem<3>;
 } // namespace dieflow

@@ -24,7 +24,7 @@ namespace dieflow
       if (layout.dimension == 2)
         DieFlowProblem<2>::declare_parameters(prm, layout);
       else
-        throw InputError("Dimension: 3 is not available in this version of dieflow; use 2");
+        DieFlowProblem<3>::declare_parameters(prm, layout);
     }
   } // namespace
 
@@ -248,6 +248,11 @@ namespace dieflow
   RunSummary
   run_deck(ParameterHandler &prm, const std::string &deck_directory, std::ostream &log)
   {
+    if (prm.get_integer("Dimension") == 3)
+      {
+        DieFlowProblem<3> problem(prm, deck_directory, log);
+        return problem.run();
+      }
     DieFlowProblem<2> problem(prm, deck_directory, log);
     return problem.run();
   }

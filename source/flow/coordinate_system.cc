@@ -31,4 +31,5 @@ namespace dieflow
   }
 
   template class CoordinateSystem<2>;
+  template class CoordinateSystem<3>;
 } // namespace dieflow

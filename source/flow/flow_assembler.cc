@@ -319,8 +319,8 @@ namespace dieflow
             }
 
       const double lambda = (cell_penalty != nullptr) ? (*cell_penalty)[cell->active_cell_index()] : penalty;
-      // Axisymmetric Q1: the weighted cell mean of div v (PressureProjection).
-      if (fe.degree == 1 && !coordinates.axisymmetric())
+      // Axisymmetric and 3D Q1: the cell mean of div v (PressureProjection).
+      if (fe.degree == 1 && coordinates.centre_rule_is_mean())
         add_centre_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr);
       else
         add_projected_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr, mixed != nullptr);
@@ -485,4 +485,5 @@ namespace dieflow
   }
 
   template class FlowAssembler<2>;
+  template class FlowAssembler<3>;
 } // namespace dieflow

@@ -145,4 +145,5 @@ namespace dieflow
   }
 
   template class MixedPenalty<2>;
+  template class MixedPenalty<3>;
 } // namespace dieflow

@@ -10,10 +10,10 @@ namespace dieflow
     dealii::Quadrature<dim>
     projection_quadrature(const dealii::FiniteElement<dim> &fe, const CoordinateSystem<dim> &coordinates)
     {
-      // Degree 1: the one-point rule of the Q1-P0 element (axisymmetric: the
-      // weighted cell mean, 2x2 points); degree 2: exact for psi_m div phi_i
-      // on straight-sided cells.
-      return dealii::QGauss<dim>(fe.degree == 1 ? (coordinates.axisymmetric() ? 2 : 1) : fe.degree + 1);
+      // Degree 1: the one-point rule of the Q1-P0 element (axisymmetric and
+      // 3D: the cell mean, 2^dim points, see centre_rule_is_mean()); degree
+      // 2: exact for psi_m div phi_i on straight-sided cells.
+      return dealii::QGauss<dim>(fe.degree == 1 ? (coordinates.centre_rule_is_mean() ? 1 : 2) : fe.degree + 1);
     }
   } // namespace
 
@@ -166,4 +166,5 @@ namespace dieflow
   }
 
   template class PressureProjection<2>;
+  template class PressureProjection<3>;
 } // namespace dieflow

@@ -58,9 +58,13 @@ namespace dieflow
     {
       prm.declare_entry("Source",
                         "die2d",
-                        Selection("die2d|box|gmsh"),
+                        Selection("die2d|round bar quarter|box|gmsh"),
                         "Where the coarse mesh comes from: the built-in die2d "
-                        "scene (subsection Die2d), an axis-parallel box "
+                        "scene (subsection Die2d; with Dimension = 3 extruded in "
+                        "z, see Depth), the die2d profile as a round bar through "
+                        "a conical die, a quarter of it (Dimension = 3; the "
+                        "Die2d heights are radii; ids as die2d, 5 the two "
+                        "symmetry planes y = 0 and z = 0), an axis-parallel box "
                         "(subsection Box), or a Gmsh file whose physical groups "
                         "are the boundary ids.");
       prm.declare_entry("Gmsh file",
@@ -134,6 +138,17 @@ namespace dieflow
                           "Number of cells across the channel in every block; the "
                           "number along each block follows for cells of aspect "
                           "ratio near one.");
+        prm.declare_entry("Depth",
+                          "1",
+                          Double(),
+                          "Dimension = 3: the scene extruded in z over this depth "
+                          "(mm), a slab between the planes z = 0 (boundary id 6) "
+                          "and z = Depth (id 7); make them Symmetry ids for the "
+                          "plane-strain slab between frictionless side planes.");
+        prm.declare_entry("Cells in depth",
+                          "1",
+                          Integer(1, 4096),
+                          "Dimension = 3: the number of cell layers in z.");
       }
       prm.leave_subsection();
 
@@ -202,10 +217,22 @@ namespace dieflow
       die2d.inlet_half_height  = positive("Inlet half height");
       die2d.outlet_half_height = positive("Outlet half height");
       die2d.die_angle_degrees  = positive("Die angle");
-      die2d.container_length   = positive("Container length");
-      die2d.land_length        = positive("Land length");
+      // The round bar quarter may leave out the container or the land (a
+      // plain cone, for the sink flow); the die2d section needs both.
+      const auto length = [&](const std::string &entry) {
+        const double value = prm.get_double(entry);
+        require(value > 0 || (value == 0 && source == "round bar quarter"),
+                "Mesh/Die2d/" + entry,
+                "must be positive" + std::string(source == "round bar quarter" ? " or zero" : "") + ", got " +
+                  prm.get(entry));
+        return value;
+      };
+      die2d.container_length   = length("Container length");
+      die2d.land_length        = length("Land length");
       die2d.cells_across       = prm.get_integer("Cells across");
       die2d.layout             = prm.get("Layout");
+      die2d.depth              = positive("Depth");
+      die2d.cells_in_depth     = prm.get_integer("Cells in depth");
       require(die2d.outlet_half_height < die2d.inlet_half_height,
               "Mesh/Die2d/Outlet half height",
               "must be smaller than Inlet half height (a die reduces the section)");
@@ -453,6 +480,82 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /**
+     * The round bar of the die2d profile through its conical die, a quarter
+     * (y >= 0, z >= 0) with x the axis: the quarter disc of radius 1 (three
+     * cells, refined until at least Cells across cells span the radius,
+     * the new vertices on the circle) swept along x in slices of about the
+     * local cell size, which place the die entry C and exit D on slice
+     * planes, and scaled by the radius R(x) of the profile: h_i/2 in the
+     * container, linear along the die face, h_o/2 in the land. Faces are
+     * flat (MappingQ1): the section is a polygon inscribed in the circle.
+     * Ids: 1 inlet, 2 outlet, 3 container wall, 4 die face and land, 5 the
+     * symmetry planes y = 0 and z = 0.
+     */
+    void
+    make_round_bar_quarter(const Die2dGeometry &g, Triangulation<3> &triangulation)
+    {
+      Triangulation<2> disc, section;
+      dealii::GridGenerator::quarter_hyper_ball(disc);
+      unsigned int across = 2;
+      while (across < g.cells_across)
+        {
+          disc.refine_global(1);
+          across *= 2;
+        }
+      dealii::GridGenerator::flatten_triangulation(disc, section);
+
+      const double R_i = g.inlet_half_height, R_o = g.outlet_half_height, x_d = g.die_exit_x();
+      require(x_d > 1e-9 * R_i,
+              "Mesh/Die2d/Die angle",
+              "must be below 90 degrees for Source = round bar quarter (a flat die has no converging zone "
+              "for the section to shrink along)");
+      std::vector<double> slices{0.};
+      const auto add_zone = [&](const double length, const double cell_size) {
+        if (length == 0)
+          return;
+        const unsigned int n     = std::max(1, static_cast<int>(std::round(length / cell_size)));
+        const double       start = slices.back();
+        for (unsigned int i = 1; i <= n; ++i)
+          slices.push_back(start + length * i / n);
+      };
+      add_zone(g.container_length, R_i / across);
+      add_zone(x_d, 0.5 * (R_i + R_o) / across);
+      add_zone(g.land_length, R_o / across);
+      dealii::GridGenerator::extrude_triangulation(section, slices, triangulation);
+
+      // Section (p0, p1), sweep p2 -> (x, y, z) = (p2 - L_c, R(x) p0, R(x) p1).
+      const auto radius = [&](const double x) {
+        return x <= 0 ? R_i : x >= x_d ? R_o : R_i + (R_o - R_i) * x / x_d;
+      };
+      dealii::GridTools::transform(
+        [&](const Point<3> &p) {
+          const double x = p[2] - g.container_length;
+          return Point<3>(x, radius(x) * p[0], radius(x) * p[1]);
+        },
+        triangulation);
+
+      const double tolerance = 1e-9 * (g.container_length + x_d + g.land_length);
+      for (const auto &face : triangulation.active_face_iterators())
+        if (face->at_boundary())
+          {
+            const Point<3> c = face->center();
+            if (std::abs(c[0] + g.container_length) < tolerance)
+              face->set_boundary_id(Die2dGeometry::inlet_id);
+            else if (std::abs(c[0] - x_d - g.land_length) < tolerance)
+              face->set_boundary_id(Die2dGeometry::outlet_id);
+            else if (face->boundary_id() == 1) // the section's cut lines
+              face->set_boundary_id(Die2dGeometry::symmetry_id);
+            else
+              face->set_boundary_id(c[0] < 0 ? Die2dGeometry::container_id : Die2dGeometry::die_id);
+          }
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   make_mesh(const MeshParameters &parameters, Triangulation<dim> &triangulation)
@@ -462,8 +565,22 @@ namespace dieflow
         if constexpr (dim == 2)
           make_die2d(parameters.die2d, triangulation);
         else
-          throw InputError("Mesh/Source: the die2d scene is two-dimensional; use "
-                           "Dimension = 2 or a Gmsh mesh");
+          {
+            // The section extruded in z: the lateral faces keep the section's
+            // ids 1..5, z = 0 and z = depth get the next free ones, 6 and 7.
+            Triangulation<2> section;
+            make_die2d(parameters.die2d, section);
+            dealii::GridGenerator::extrude_triangulation(
+              section, parameters.die2d.cells_in_depth + 1, parameters.die2d.depth, triangulation);
+          }
+      }
+    else if (parameters.source == "round bar quarter")
+      {
+        if constexpr (dim == 3)
+          make_round_bar_quarter(parameters.die2d, triangulation);
+        else
+          throw InputError("Mesh/Source: 'round bar quarter' is a 3D mesh; set Dimension = 3 (in 2D the "
+                           "round bar is the die2d scene with Geometry = axisymmetric)");
       }
     else if (parameters.source == "box")
       make_box(parameters.box, triangulation);
@@ -544,4 +661,6 @@ namespace dieflow
   check_boundary_ids<2>(const Triangulation<2> &, const std::map<BoundaryId, std::string> &);
   template void
   check_boundary_ids<3>(const Triangulation<3> &, const std::map<BoundaryId, std::string> &);
+  template void
+  check_axisymmetric_mesh<3>(const Triangulation<3> &, const std::set<BoundaryId> &);
 } // namespace dieflow

@@ -273,4 +273,16 @@ namespace dieflow
   mark_cells<2>(const RefinementParameters &, const dealii::Vector<float> &, dealii::Triangulation<2> &);
   template double
   share_of_cells_at<2>(const dealii::Triangulation<2> &, const std::set<BoundaryId> &);
+  template struct DieFeatures<3>;
+  template dealii::Vector<float>
+  refinement_indicators<3>(const RefinementParameters &, const dealii::DoFHandler<3> &,
+                           const dealii::Vector<double> &, const DieFeatures<3> &);
+  template dealii::Vector<float>
+  kelly_indicators<3>(const dealii::DoFHandler<3> &, const dealii::Vector<double> &);
+  template double
+  kelly_estimate<3>(const dealii::DoFHandler<3> &, const dealii::Vector<double> &);
+  template void
+  mark_cells<3>(const RefinementParameters &, const dealii::Vector<float> &, dealii::Triangulation<3> &);
+  template double
+  share_of_cells_at<3>(const dealii::Triangulation<3> &, const std::set<BoundaryId> &);
 } // namespace dieflow

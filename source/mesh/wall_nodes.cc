@@ -227,4 +227,10 @@ namespace dieflow
   collect_wall_nodes<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const std::set<BoundaryId> &, const AffineConstraints<double> &, const double);
   template void
   constrain_normal_components<2>(const std::array<GlobalDof, 2> &, const std::vector<Tensor<1, 2>> &, const std::vector<double> &, AffineConstraints<double> &);
+  template std::vector<FaceNode<3>>
+  face_nodes<3>(const CoordinateSystem<3> &, const DoFHandler<3>::active_cell_iterator &, const unsigned int, dealii::FEFaceValues<3> &);
+  template std::vector<WallNode<3>>
+  collect_wall_nodes<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const std::set<BoundaryId> &, const AffineConstraints<double> &, const double);
+  template void
+  constrain_normal_components<3>(const std::array<GlobalDof, 3> &, const std::vector<Tensor<1, 3>> &, const std::vector<double> &, AffineConstraints<double> &);
 } // namespace dieflow

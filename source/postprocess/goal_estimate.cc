@@ -286,4 +286,16 @@ namespace dieflow
   dual_weighted_force_error<2>(const DoFHandler<2> &, const AffineConstraints<double> &, const Vector<double> &,
                                const FlowAssembler<2> &, const Material &, const ContactSet<2> &,
                                const BoundaryConditions<2> &, const std::set<BoundaryId> &, const BoundaryId);
+  template Vector<double>
+  force_dual<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const AffineConstraints<double> &,
+                const dealii::SparsityPattern &, const Vector<double> &, const FlowAssembler<3> &, const ContactSet<3> &,
+                const Vector<double> &, const std::function<void(Vector<double> &)> &);
+  template Vector<double>
+  force_direction<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const BoundaryId);
+  template dealii::Vector<float>
+  goal_indicators<3>(const DoFHandler<3> &, const Vector<double> &, const Vector<double> &);
+  template GoalEstimate
+  dual_weighted_force_error<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const Vector<double> &,
+                               const FlowAssembler<3> &, const Material &, const ContactSet<3> &,
+                               const BoundaryConditions<3> &, const std::set<BoundaryId> &, const BoundaryId);
 } // namespace dieflow

@@ -95,4 +95,6 @@ namespace dieflow
 
   template MassBalance
   mass_balance<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const std::map<BoundaryId, double> &);
+  template MassBalance
+  mass_balance<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const std::map<BoundaryId, double> &);
 } // namespace dieflow

@@ -180,31 +180,170 @@ namespace dieflow
             }
     }
 
-    /// The traction samples of every part: its nodes that belong to no
-    /// other part and, on a wall, have one wall direction (not a corner).
+    /**
+     * The reaction @p reaction at a node where the walls @p directions meet,
+     * split among them: the part along each wall's normal belongs to that
+     * wall (a 2D corner: R = a_1 n_1 + a_2 n_2; least squares), and what
+     * remains (the part along a tangent they share, in 3D the edge between
+     * two planes) is friction: it goes by weight to the walls that transmit
+     * friction (all of them, if none does), so that a symmetry plane meeting
+     * a die carries no friction of the die.
+     */
+    template <int dim>
+    std::vector<std::pair<BoundaryId, Tensor<1, dim>>>
+    split_between_walls(const std::vector<WallDirection<dim>> &directions,
+                        const Tensor<1, dim> &                 reaction,
+                        const std::set<BoundaryId> &           frictionless_ids)
+    {
+      const unsigned int         k = directions.size();
+      dealii::FullMatrix<double> G(k, k);
+      Vector<double>             rhs(k), a(k);
+      for (unsigned int i = 0; i < k; ++i)
+        {
+          rhs[i] = directions[i].normal * reaction;
+          for (unsigned int j = 0; j < k; ++j)
+            G(i, j) = directions[i].normal * directions[j].normal;
+        }
+      G.gauss_jordan();
+      G.vmult(a, rhs);
+      std::vector<std::pair<BoundaryId, Tensor<1, dim>>> parts;
+      Tensor<1, dim>                                     remainder = reaction;
+      for (unsigned int i = 0; i < k; ++i)
+        {
+          parts.emplace_back(directions[i].id, a[i] * directions[i].normal);
+          remainder -= a[i] * directions[i].normal;
+        }
+      double total = 0, frictional = 0;
+      for (const auto &direction : directions)
+        {
+          total += direction.weight;
+          if (!frictionless_ids.count(direction.id))
+            frictional += direction.weight;
+        }
+      for (unsigned int i = 0; i < k; ++i)
+        if (frictional == 0)
+          parts[i].second += directions[i].weight / total * remainder;
+        else if (!frictionless_ids.count(directions[i].id))
+          parts[i].second += directions[i].weight / frictional * remainder;
+      return parts;
+    }
+
+    /**
+     * The traction samples of every part: its nodes that belong to no
+     * other part and, on a wall, have one wall direction (not a corner). In
+     * 3D also a wall's nodes on its edges with frictionless walls normal to
+     * it (a die between symmetry planes: with one layer of cells, all its
+     * nodes), each wall's share by split_between_walls().
+     */
     template <int dim>
     std::map<BoundaryId, std::vector<TractionSample<dim>>>
     traction_samples(const std::map<GlobalDof, NodeParts<dim>> &          nodes,
                      const Vector<double> &                              reactions,
-                     const std::map<GlobalDof, const WallNode<dim> *> &  wall_node_of)
+                     const std::map<GlobalDof, const WallNode<dim> *> &  wall_node_of,
+                     const std::set<BoundaryId> &                        frictionless_ids)
     {
       std::map<BoundaryId, std::vector<TractionSample<dim>>> samples;
       for (const auto &[first_dof, node] : nodes)
         {
+          Tensor<1, dim> reaction;
+          for (unsigned int d = 0; d < dim; ++d)
+            reaction[d] = reactions[node.dofs[d]];
+          const auto wall = wall_node_of.find(first_dof);
+          if (dim == 3 && node.weight.size() > 1 && wall != wall_node_of.end() &&
+              wall->second->directions.size() == node.weight.size())
+            {
+              // An edge of walls only, each normal to the others that are frictionless.
+              const auto &directions = wall->second->directions;
+              bool        edge       = true;
+              for (const auto &a : directions)
+                for (const auto &b : directions)
+                  if (a.id != b.id && std::abs(a.normal * b.normal) > 1e-6 &&
+                      (frictionless_ids.count(a.id) || frictionless_ids.count(b.id)))
+                    edge = false;
+              for (const auto &[id, w] : node.weight)
+                edge &= w > 0;
+              if (!edge)
+                continue;
+              for (const auto &[id, force] : split_between_walls(directions, reaction, frictionless_ids))
+                samples[id].push_back({dealii::Point<dim>(node.moment.at(id) / node.weight.at(id)),
+                                       force / node.weight.at(id)});
+              continue;
+            }
           if (node.weight.size() != 1 || node.weight.begin()->second <= 0)
             continue;
-          const auto wall = wall_node_of.find(first_dof);
           if (wall != wall_node_of.end() && wall->second->directions.size() != 1)
             continue;
           const auto &[id, w] = *node.weight.begin();
-          TractionSample<dim> sample;
-          sample.position = dealii::Point<dim>(node.moment.at(id) / w);
-          for (unsigned int d = 0; d < dim; ++d)
-            sample.traction[d] = reactions[node.dofs[d]] / w;
-          samples[id].push_back(sample);
+          samples[id].push_back({dealii::Point<dim>(node.moment.at(id) / w), reaction / w});
         }
       return samples;
     }
+
+    /**
+     * The traction at @p centre from wall samples sorted by their distance
+     * from it (the distances in .first). 2D: Lagrange extrapolation to
+     * distance 0 along the wall. 3D: the samples lie on a surface, where
+     * several share a distance: least squares t = a + B xi over the two
+     * principal directions xi of their positions, whose value a at the
+     * centre is the answer (exact for a traction linear on a plane wall);
+     * along one direction where the samples lie on a line.
+     */
+    template <int dim>
+    Tensor<1, dim>
+    extrapolated_traction(const std::vector<std::pair<double, const TractionSample<dim> *>> &nearest,
+                          const dealii::Point<dim> &                                         centre)
+    {
+      Tensor<1, dim> t;
+      const unsigned int n = nearest.size();
+      if constexpr (dim == 2)
+        {
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              double L = 1;
+              for (unsigned int k = 0; k < n; ++k)
+                if (k != j)
+                  L *= nearest[k].first / (nearest[k].first - nearest[j].first);
+              t += L * nearest[j].second->traction;
+            }
+          return t;
+        }
+      else
+        {
+          // Principal directions of the samples about their mean: two on a
+          // surface, one where the nearest samples lie on a line (an edge).
+          Tensor<1, dim> mean;
+          for (const auto &[distance, sample] : nearest)
+            mean += (sample->position - centre) / static_cast<double>(n);
+          dealii::SymmetricTensor<2, dim> spread;
+          for (const auto &[distance, sample] : nearest)
+            spread += dealii::symmetrize(
+              dealii::outer_product(sample->position - centre - mean, sample->position - centre - mean));
+          const auto         axes = dealii::eigenvectors(spread);
+          const unsigned int m    = 1 + (axes[0].first > 0 && n >= 2) + (axes[1].first > 1e-12 * axes[0].first && n >= 3);
+          if (m == 1)
+            return nearest.front().second->traction;
+          // Normal equations of a + sum_k b_k xi_k, xi_k = (x - centre).e_k.
+          dealii::FullMatrix<double>    G(m, m);
+          std::array<Tensor<1, dim>, 3> rhs;
+          for (const auto &[distance, sample] : nearest)
+            {
+              const Tensor<1, dim> x      = sample->position - centre;
+              const double         phi[3] = {1., x * axes[0].second, x * axes[1].second};
+              for (unsigned int i = 0; i < m; ++i)
+                {
+                  rhs[i] += phi[i] * sample->traction;
+                  for (unsigned int j = 0; j < m; ++j)
+                    G(i, j) += phi[i] * phi[j];
+                }
+            }
+          G.gauss_jordan();
+          for (unsigned int j = 0; j < m; ++j)
+            t += G(0, j) * rhs[j];
+          return t;
+        }
+    }
+
+
 
     /**
      * At a node shared by prescribed-velocity parts and walls, each wall
@@ -253,19 +392,14 @@ namespace dieflow
           std::vector<std::pair<double, const TractionSample<dim> *>> nearest;
           for (const auto &sample : found->second)
             nearest.emplace_back(centre.distance(sample.position), &sample);
-          const unsigned int n = std::min<unsigned int>(n_samples, nearest.size());
+          // 2D: along the wall, the polynomial through the n nearest; 3D: on
+          // the wall surface, a least-squares plane through 2n of them (which is
+          // the line through the 2D n when the traction does not vary across).
+          const unsigned int n = std::min<unsigned int>(dim == 2 ? n_samples : 2 * n_samples, nearest.size());
           std::partial_sort(nearest.begin(), nearest.begin() + n, nearest.end(),
                             [](const auto &a, const auto &b) { return a.first < b.first; });
-          // Lagrange extrapolation to distance 0.
-          Tensor<1, dim> t;
-          for (unsigned int j = 0; j < n; ++j)
-            {
-              double L = 1;
-              for (unsigned int k = 0; k < n; ++k)
-                if (k != j)
-                  L *= nearest[k].first / (nearest[k].first - nearest[j].first);
-              t += L * nearest[j].second->traction;
-            }
+          nearest.resize(n);
+          Tensor<1, dim> t = extrapolated_traction(nearest, centre);
           // The wall's normal at the node; a frictionless wall (symmetry,
           // slip wall, die without friction) carries a normal traction only.
           Tensor<1, dim> normal;
@@ -338,7 +472,7 @@ namespace dieflow
     std::map<GlobalDof, const WallNode<dim> *> wall_node_of;
     for (const auto &node : wall_nodes)
       wall_node_of[node.dofs[0]] = &node;
-    const auto samples = traction_samples(nodes, reactions, wall_node_of);
+    const auto samples = traction_samples(nodes, reactions, wall_node_of, frictionless_ids);
 
     for (const auto &[first_dof, node] : nodes)
       {
@@ -373,9 +507,7 @@ namespace dieflow
             continue;
           }
 
-        // Between walls: the reaction along each wall's normal belongs to that
-        // wall (a 2D corner: solve R = a_1 n_1 + a_2 n_2); what remains (the
-        // part along a shared tangent) is shared by weight.
+        // Between walls (split_between_walls()).
         if (wall == wall_node_of.end() || wall->second->directions.size() < 2)
           {
             double total = 0;
@@ -386,32 +518,9 @@ namespace dieflow
                 force[id][d] += w / total * reaction[d];
             continue;
           }
-        const auto &directions = wall->second->directions;
-        // Least-squares split on the normals: G a = N^T R, G = N^T N.
-        const unsigned int       k = directions.size();
-        dealii::FullMatrix<double> G(k, k);
-        Vector<double>           rhs(k), a(k);
-        for (unsigned int i = 0; i < k; ++i)
-          {
-            rhs[i] = directions[i].normal * reaction;
-            for (unsigned int j = 0; j < k; ++j)
-              G(i, j) = directions[i].normal * directions[j].normal;
-          }
-        G.gauss_jordan();
-        G.vmult(a, rhs);
-        Tensor<1, dim> remainder = reaction;
-        for (unsigned int i = 0; i < k; ++i)
-          {
-            for (unsigned int d = 0; d < dim; ++d)
-              force[directions[i].id][d] += a[i] * directions[i].normal[d];
-            remainder -= a[i] * directions[i].normal;
-          }
-        double total = 0;
-        for (const auto &direction : directions)
-          total += direction.weight;
-        for (const auto &direction : directions)
+        for (const auto &[id, part] : split_between_walls(wall->second->directions, reaction, frictionless_ids))
           for (unsigned int d = 0; d < dim; ++d)
-            force[direction.id][d] += direction.weight / total * remainder[d];
+            force[id][d] += part[d];
       }
     return force;
   }
@@ -469,7 +578,7 @@ namespace dieflow
   Vector<double>
   cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
   {
-    if (dof_handler.get_fe().degree > 1 || coordinates.axisymmetric())
+    if (dof_handler.get_fe().degree > 1 || !coordinates.centre_rule_is_mean())
       return PressureProjection<dim>::project_all(dof_handler, velocity, coordinates);
     const dealii::FEValuesExtractors::Vector velocities(0);
     dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients);
@@ -658,6 +767,26 @@ namespace dieflow
   cell_divergence<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
   template void
   write_fields<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &,
+                  const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
+                  const bool, const bool, std::vector<std::pair<double, std::string>> &);
+  template std::map<BoundaryId, double>
+  boundary_fluxes<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
+  template std::map<BoundaryId, double>
+  boundary_areas<3>(const CoordinateSystem<3> &, const DoFHandler<3> &);
+  template std::map<BoundaryId, std::vector<double>>
+  boundary_forces<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const BoundaryConditions<3> &, const std::vector<WallNode<3>> &,
+                     const std::set<BoundaryId> &, std::vector<WallShare<3>> *);
+  template double
+  divergence_ratio<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
+  template std::pair<double, double>
+  velocity_errors<3>(const DoFHandler<3> &, const Vector<double> &, const dealii::Function<3> &);
+  template Vector<double>
+  cell_pressure<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const double, const Vector<double> *,
+                   const Vector<double> *);
+  template Vector<double>
+  cell_divergence<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
+  template void
+  write_fields<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const Material &, const Vector<double> &,
                   const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
                   const bool, const bool, std::vector<std::pair<double, std::string>> &);
 } // namespace dieflow

@@ -81,10 +81,11 @@ namespace dieflow
              << (value != 0 ? 100 * e->second.estimate / std::abs(value) : 0.) << " %)";
       return text.str();
     };
-    // Plane strain: per mm of depth; axisymmetric: the whole body of revolution.
-    const std::string force_unit = summary.geometry == "axisymmetric" ? "N" : "N/mm";
+    // Plane strain: per mm of depth; axisymmetric: the whole body of revolution; 3D: the body.
+    const bool        whole_body = summary.geometry != "plane strain";
+    const std::string force_unit = whole_body ? "N" : "N/mm";
     out << "result (cycle " << last.cycle << ", " << last.dofs << " dofs, velocity degree " << summary.velocity_degree
-        << (summary.geometry == "axisymmetric" ? ", axisymmetric" : "") << "):\n";
+        << (summary.geometry == "plane strain" ? "" : ", " + summary.geometry) << "):\n";
     for (const auto &[name, value] : last.quantities)
       if (name.rfind("F_x[", 0) == 0)
         {
@@ -94,7 +95,7 @@ namespace dieflow
           // The ram's extrusion pressure, a drawing pull's drawing stress.
           if (const auto area = last.boundary_area.find(id); area != last.boundary_area.end() && area->second > 0)
             out << "      mean axial stress F_x[" << id << "] / A = " << std::setprecision(6) << value / area->second
-                << " MPa over A = " << area->second << (summary.geometry == "axisymmetric" ? " mm^2" : " mm") << '\n';
+                << " MPa over A = " << area->second << (whole_body ? " mm^2" : " mm") << '\n';
         }
     for (const auto &[id, length] : last.contact_length)
       {

@@ -116,4 +116,8 @@ namespace dieflow
   vertex_stresses<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &);
   template std::vector<double>
   vertex_pressures<2>(const DoFHandler<2> &, const Vector<double> &);
+  template std::vector<SymmetricTensor<2, 3>>
+  vertex_stresses<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const Material &, const Vector<double> &);
+  template std::vector<double>
+  vertex_pressures<3>(const DoFHandler<3> &, const Vector<double> &);
 } // namespace dieflow

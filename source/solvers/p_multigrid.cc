@@ -123,4 +123,5 @@ namespace dieflow
   }
 
   template class PMultigrid<2>;
+  template class PMultigrid<3>;
 } // namespace dieflow

@@ -76,4 +76,12 @@ namespace dieflow
                                       const dealii::SparseMatrix<double> &,
                                       const std::vector<double> &,
                                       const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &);
+  template std::vector<double>
+  rigid_body_modes(const dealii::DoFHandler<3> &);
+  template void
+  initialize_with_rigid_body_modes<3>(dealii::TrilinosWrappers::PreconditionAMG &,
+                                      dealii::TrilinosWrappers::SparseMatrix &,
+                                      const dealii::SparseMatrix<double> &,
+                                      const std::vector<double> &,
+                                      const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &);
 } // namespace dieflow

@@ -264,4 +264,5 @@ namespace dieflow
   }
 
   template class SaddlePointSolver<2>;
+  template class SaddlePointSolver<3>;
 } // namespace dieflow

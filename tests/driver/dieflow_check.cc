@@ -35,9 +35,9 @@ namespace
 
   /// Observed convergence order of the error e against the mesh size h ~ dofs^(-1/dim).
   double
-  rate(const double e_coarse, const double e_fine, const double dofs_coarse, const double dofs_fine)
+  rate(const double e_coarse, const double e_fine, const double dofs_coarse, const double dofs_fine, const int dim)
   {
-    return std::log(e_coarse / e_fine) / std::log(std::sqrt(dofs_fine / dofs_coarse));
+    return std::log(e_coarse / e_fine) / std::log(std::pow(dofs_fine / dofs_coarse, 1. / dim));
   }
 
   /// Order p of r_{k+1} ~ r_k^p from the last three Newton residuals above 1e-12.
@@ -99,13 +99,16 @@ namespace
         if (c > 0 && s.velocity_l2_error)
           {
             const CycleSummary &p = summary.cycles[c - 1];
-            cycle["l2_rate"] = rate(*p.velocity_l2_error, *s.velocity_l2_error, p.dofs, s.dofs);
-            cycle["h1_rate"] = rate(*p.velocity_h1_error, *s.velocity_h1_error, p.dofs, s.dofs);
+            const int dim    = summary.geometry == "3d" ? 3 : 2;
+            cycle["l2_rate"] = rate(*p.velocity_l2_error, *s.velocity_l2_error, p.dofs, s.dofs, dim);
+            cycle["h1_rate"] = rate(*p.velocity_h1_error, *s.velocity_h1_error, p.dofs, s.dofs, dim);
           }
         for (const auto &[id, f] : s.boundary_force)
           {
             cycle["force_x_" + std::to_string(id)] = f[0];
             cycle["force_y_" + std::to_string(id)] = f[1];
+            if (f.size() > 2)
+              cycle["force_z_" + std::to_string(id)] = f[2];
           }
         for (const auto &[id, value] : s.flux)
           cycle["flux_" + std::to_string(id)] = value;

@@ -158,6 +158,24 @@ namespace dieflow
       return geometry == Geometry::axisymmetric;
     }
 
+    /**
+     * True where the Q1 element's one-point (cell centre) rule gives the
+     * exact cell mean of div v, int_K div v dx = div v(c) |K|: plane strain,
+     * where div v det J is bilinear on the reference square. Not in 3D,
+     * where det J times the divergence of a trilinear field is quadratic in
+     * each reference coordinate on a cell that is not a parallelepiped (a
+     * constant pressure would then not be in equilibrium with its boundary
+     * tractions: an O(1) error on distorted meshes, whatever the penalty),
+     * nor in the axisymmetric geometry (the 2 pi r weight): there the
+     * degree-1 penalty acts on the cell mean from the 2^dim Gauss rule
+     * (mean dilatation, PressureProjection).
+     */
+    bool
+    centre_rule_is_mean() const
+    {
+      return dim == 2 && !axisymmetric();
+    }
+
     /// The factor of dx dy (and of ds) at @p x: 1, or 2 pi r.
     double
     weight(const dealii::Point<dim> &x) const

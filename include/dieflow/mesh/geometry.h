@@ -7,6 +7,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <map>
+#include <set>
 #include <string>
 
 namespace dieflow
@@ -42,6 +43,9 @@ namespace dieflow
     double       land_length        = 15;
     unsigned int cells_across       = 4;
     std::string  layout             = "bisected";
+    /// Dimension = 3: the scene extruded over z in [0, depth] (ids 6, 7).
+    double       depth              = 1;
+    unsigned int cells_in_depth     = 1;
 
     double
     die_exit_x() const;
@@ -54,6 +58,8 @@ namespace dieflow
     static constexpr BoundaryId container_id = 3;
     static constexpr BoundaryId die_id       = 4;
     static constexpr BoundaryId symmetry_id  = 5;
+    static constexpr BoundaryId front_id     = 6;
+    static constexpr BoundaryId back_id      = 7;
   };
 
   /**
