@@ -486,11 +486,15 @@ namespace dieflow
      * The round bar of the die2d profile through its conical die, a quarter
      * (y >= 0, z >= 0) with x the axis: the quarter disc of radius 1 (three
      * cells, refined until at least Cells across cells span the radius,
-     * the new vertices on the circle) swept along x in slices of about the
-     * local cell size, which place the die entry C and exit D on slice
-     * planes, and scaled by the radius R(x) of the profile: h_i/2 in the
-     * container, linear along the die face, h_o/2 in the land. Faces are
-     * flat (MappingQ1): the section is a polygon inscribed in the circle.
+     * the new vertices on the circle) swept along x through three blocks
+     * (container, die face, land) and scaled by the profile's radius: h_i/2
+     * in the container, linear along the die face, h_o/2 in the land. The
+     * blocks meet as Layout says, as in the die2d section: along the
+     * bisectors of the corners C and D (bisected; cones through C and D,
+     * 55 and 125 degree cells there for beta = 70), or along the planes
+     * through them (blocks: 20 and 160 degrees, the layout whose ram force
+     * is far off on coarse meshes). Faces are flat (MappingQ1): the
+     * section is a polygon inscribed in the circle.
      * Ids: 1 inlet, 2 outlet, 3 container wall, 4 die face and land, 5 the
      * symmetry planes y = 0 and z = 0.
      */
@@ -512,28 +516,55 @@ namespace dieflow
               "Mesh/Die2d/Die angle",
               "must be below 90 degrees for Source = round bar quarter (a flat die has no converging zone "
               "for the section to shrink along)");
-      std::vector<double> slices{0.};
-      const auto add_zone = [&](const double length, const double cell_size) {
-        if (length == 0)
-          return;
-        const unsigned int n     = std::max(1, static_cast<int>(std::round(length / cell_size)));
-        const double       start = slices.back();
-        for (unsigned int i = 1; i <= n; ++i)
-          slices.push_back(start + length * i / n);
+
+      // The blocks' ends at radius fraction rho: vertical through C and D
+      // (blocks), or along the bisectors of the corners C and D as in the
+      // die2d section (bisected; both bisectors have the direction
+      // (cos beta - 1, -sin beta)), unless the container is too short for C's.
+      const double beta     = g.die_angle_degrees * dealii::numbers::PI / 180.;
+      const double lean     = (std::cos(beta) - 1) / std::sin(beta); // dx/dr along a bisector, < 0
+      const bool   bisected = g.layout == "bisected" && g.container_length + lean * R_i > 0;
+      const auto   x_C      = [&](const double rho) { return bisected ? lean * R_i * (1 - rho) : 0.; };
+      const auto   x_D      = [&](const double rho) { return bisected ? x_d + lean * R_o * (1 - rho) : x_d; };
+      const double x_end    = x_d + g.land_length;
+
+      // Slices of about the cell size of each block at mid-radius.
+      const auto count = [&](const double length, const double cell_size) {
+        return length > 0 ? std::max(1, static_cast<int>(std::round(length / cell_size))) : 0;
       };
-      add_zone(g.container_length, R_i / across);
-      add_zone(x_d, 0.5 * (R_i + R_o) / across);
-      add_zone(g.land_length, R_o / across);
+      const int n_c = count(g.container_length + x_C(0.5), R_i / across);
+      const int n_d = count(x_D(0.5) - x_C(0.5), 0.5 * (R_i + R_o) / across);
+      const int n_l = count(x_end - x_D(0.5), R_o / across);
+      std::vector<double> slices;
+      for (int k = 0; k <= n_c + n_d + n_l; ++k)
+        slices.push_back(k);
       dealii::GridGenerator::extrude_triangulation(section, slices, triangulation);
 
-      // Section (p0, p1), sweep p2 -> (x, y, z) = (p2 - L_c, R(x) p0, R(x) p1).
-      const auto radius = [&](const double x) {
-        return x <= 0 ? R_i : x >= x_d ? R_o : R_i + (R_o - R_i) * x / x_d;
-      };
+      // Section (p0, p1) of radius fraction rho, slice s: block and the
+      // fraction t along it, x between the block's ends at rho, the radius
+      // R(t) rho with R the profile's (linear along the die face).
       dealii::GridTools::transform(
         [&](const Point<3> &p) {
-          const double x = p[2] - g.container_length;
-          return Point<3>(x, radius(x) * p[0], radius(x) * p[1]);
+          const double rho = std::min(1., std::hypot(p[0], p[1]));
+          const double s   = p[2];
+          double       x, R;
+          if (n_c > 0 && s <= n_c)
+            {
+              x = -g.container_length + (s / n_c) * (x_C(rho) + g.container_length);
+              R = R_i;
+            }
+          else if (s <= n_c + n_d)
+            {
+              const double t = (s - n_c) / n_d;
+              x              = x_C(rho) + t * (x_D(rho) - x_C(rho));
+              R              = R_i + t * (R_o - R_i);
+            }
+          else
+            {
+              x = x_D(rho) + (s - n_c - n_d) / n_l * (x_end - x_D(rho));
+              R = R_o;
+            }
+          return Point<3>(x, R * p[0], R * p[1]);
         },
         triangulation);
 

@@ -97,13 +97,15 @@ namespace dieflow
             out << "      mean axial stress F_x[" << id << "] / A = " << std::setprecision(6) << value / area->second
                 << " MPa over A = " << area->second << (whole_body ? " mm^2" : " mm") << '\n';
         }
+    // The extent of the contact zones: a length of wall in 2D, an area in 3D.
+    const std::string wall_unit = summary.geometry == "3d" ? " mm^2" : " mm";
     for (const auto &[id, length] : last.contact_length)
       {
         const std::string i = std::to_string(id);
         out << "  die id " << i << ": normal force F_n[" << i << "] = " << quantity("F_n[" + i + "]", force_unit)
             << "\n            friction force F_t[" << i << "] = " << quantity("F_t[" + i + "]", force_unit)
-            << "\n            separated " << std::setprecision(4) << length[0] << " mm, stick " << length[1]
-            << " mm, slip " << length[2] << " mm\n";
+            << "\n            separated " << std::setprecision(4) << length[0] << wall_unit << ", stick " << length[1]
+            << wall_unit << ", slip " << length[2] << wall_unit << "\n";
       }
     for (const auto &[name, value] : last.quantities)
       if (name == "v_x(probe)")
