@@ -277,7 +277,7 @@ namespace dieflow
     sparsity_pattern.copy_from(dsp);
     system_matrix.reinit(sparsity_pattern);
     linear_solver.reset();
-    const bool iterative = linear_solver.iterative_for(fe.degree, dof_handler.n_dofs());
+    const bool iterative = linear_solver.iterative_for(dim, fe.degree, dof_handler.n_dofs());
     augmented            = iterative && fe.degree == 1;
     mixed_form           = iterative && fe.degree >= 2;
     if (mixed_form)

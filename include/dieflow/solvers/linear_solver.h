@@ -72,18 +72,18 @@ namespace dieflow
     last_solver() const;
 
     /**
-     * Whether systems of @p n_dofs unknowns of velocity degree @p degree
-     * are solved iteratively: by the augmented Lagrangian for degree 1, by
+     * Whether systems of @p n_dofs unknowns of velocity degree @p degree in
+     * @p dim dimensions are solved iteratively: by the augmented Lagrangian for degree 1, by
      * the mixed form (SaddlePointSolver) for degree 2. With Method = auto,
      * from 'Iterative from dofs' on, or where that is 0 from
      * auto_threshold().
      */
     bool
-    iterative_for(const unsigned int degree, const std::size_t n_dofs) const;
+    iterative_for(const unsigned int dim, const unsigned int degree, const std::size_t n_dofs) const;
 
     /// The size from which Method = auto solves iteratively when 'Iterative from dofs' is 0.
     static std::size_t
-    auto_threshold(const unsigned int degree);
+    auto_threshold(const unsigned int dim, const unsigned int degree);
 
     /// The mixed form's GMRES gives up (and falls back to the direct solver) after this many iterations.
     unsigned int max_block_iterations = 300;
