@@ -391,7 +391,7 @@ namespace dieflow
   {
     // The reaction R at the node on the active normals and those of the
     // node's fixed walls: R = sum_k F_k n_k + a tangential part (the
-    // friction); least squares through the Gram matrix. A node that sticks
+    // friction); least squares (normal_components()). A node that sticks
     // exactly carries the rest, R - sum_k F_k n_k, as its friction force:
     // its components on the die's tangents t_i. (Not by least squares on
     // normals and tangents together: in 3D a tangent of the die can be the
@@ -417,17 +417,8 @@ namespace dieflow
     Tensor<1, dim> reaction;
     for (unsigned int d = 0; d < dim; ++d)
       reaction[d] = flow_residual[node.dofs[d]];
-    const unsigned int         m = normals.size();
-    dealii::FullMatrix<double> G(m, m);
-    dealii::Vector<double>     rhs(m), a(m);
-    for (unsigned int i = 0; i < m; ++i)
-      {
-        rhs[i] = normals[i] * reaction;
-        for (unsigned int j = 0; j < m; ++j)
-          G(i, j) = normals[i] * normals[j];
-      }
-    G.gauss_jordan();
-    G.vmult(a, rhs);
+    const std::vector<double> a = normal_components(normals, reaction);
+    const unsigned int        m = normals.size();
     Tensor<1, dim> tangential = reaction;
     for (unsigned int i = 0; i < m; ++i)
       {
@@ -477,6 +468,11 @@ namespace dieflow
             largest_force = std::max(largest_force, std::abs(f));
         }
     const double dead_band = 1e-6 * largest_force;
+    dealii::Vector<double> moved(v);
+    if (previous_velocity.size() == v.size())
+      moved -= previous_velocity;
+    const bool at_round_off = previous_velocity.size() == v.size() && moved.l2_norm() <= 1e-10 * v.l2_norm();
+    previous_velocity       = v;
 
     for (unsigned int i = 0; i < nodes.size(); ++i)
       {
@@ -540,6 +536,26 @@ namespace dieflow
                     dir.stick_force :
                     ContactElement<dim>::friction(law, dir.status, dir.slip_direction, slip_rate, dir.normal_force).force;
                 state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
+                // A tie in 3D: once Newton no longer moves the solution, a
+                // node exactly on the cone with no slip (|F_t| = mu |F_n|
+                // to 1e-19 of the largest force; the rectangular bar's
+                // slipping nodes whose slip rate is zero) keeps its state;
+                // it otherwise flips between stick and slip on round-off,
+                // at random, so that the cycle test never sees a state
+                // return (7 nodes; 50 iterations with the update at 1e-13).
+                // 2D keeps its rule: applied there from the first
+                // iteration, or with a band of 1e-6, it changed the states
+                // of the 2D stress cases.
+                if (dim == 3 && at_round_off && state.first != dir.status && dir.status != ContactStatus::separated &&
+                    law.kind != FrictionLaw::Kind::regularised_coulomb)
+                  {
+                    const double bound  = law.kind == FrictionLaw::Kind::tresca ?
+                                            law.shear_bound :
+                                            law.mu * std::max(-dir.normal_force, 0.);
+                    const double excess = (current - contact_constant(dir) * slip_rate).norm() - bound;
+                    if (std::abs(excess) <= 1e-12 * largest_force)
+                      state.first = dir.status;
+                  }
                 // A slipping node whose velocity reversed passed through rest
                 // under the friction force. The second time it does so in a
                 // run it sticks, and slips again only if its reaction leaves

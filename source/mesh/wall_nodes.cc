@@ -3,6 +3,10 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <Eigen/Dense>
 
 #include <cmath>
 #include <map>
@@ -221,6 +225,46 @@ namespace dieflow
       }
   }
 
+
+
+  template <int dim>
+  std::vector<double>
+  normal_components(const std::vector<Tensor<1, dim>> &normals, const Tensor<1, dim> &reaction)
+  {
+    const unsigned int         m = normals.size();
+    dealii::FullMatrix<double> G(m, m);
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int j = 0; j < m; ++j)
+        G(i, j) = normals[i] * normals[j];
+    std::vector<double> a(m);
+    // Independent unit normals: the Gram matrix is regular (its determinant
+    // is the squared volume they span: 1 for orthogonal walls, sin^2 of the
+    // angle between two).
+    if (m <= dim && std::abs(G.determinant()) > 1e-12)
+      {
+        dealii::Vector<double> rhs(m), solution(m);
+        for (unsigned int i = 0; i < m; ++i)
+          rhs[i] = normals[i] * reaction;
+        G.gauss_jordan();
+        G.vmult(solution, rhs);
+        std::copy(solution.begin(), solution.end(), a.begin());
+        return a;
+      }
+    Eigen::Matrix<double, dim, Eigen::Dynamic> N(dim, m);
+    Eigen::Matrix<double, dim, 1>              r;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        r(d) = reaction[d];
+        for (unsigned int i = 0; i < m; ++i)
+          N(d, i) = normals[i][d];
+      }
+    const Eigen::VectorXd least_norm = N.completeOrthogonalDecomposition().solve(r);
+    for (unsigned int i = 0; i < m; ++i)
+      a[i] = least_norm(i);
+    return a;
+  }
+
+
   template std::vector<FaceNode<2>>
   face_nodes<2>(const CoordinateSystem<2> &, const DoFHandler<2>::active_cell_iterator &, const unsigned int, dealii::FEFaceValues<2> &);
   template std::vector<WallNode<2>>
@@ -233,4 +277,8 @@ namespace dieflow
   collect_wall_nodes<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const std::set<BoundaryId> &, const AffineConstraints<double> &, const double);
   template void
   constrain_normal_components<3>(const std::array<GlobalDof, 3> &, const std::vector<Tensor<1, 3>> &, const std::vector<double> &, AffineConstraints<double> &);
+  template std::vector<double>
+  normal_components<2>(const std::vector<Tensor<1, 2>> &, const Tensor<1, 2> &);
+  template std::vector<double>
+  normal_components<3>(const std::vector<Tensor<1, 3>> &, const Tensor<1, 3> &);
 } // namespace dieflow

@@ -195,17 +195,11 @@ namespace dieflow
                         const Tensor<1, dim> &                 reaction,
                         const std::set<BoundaryId> &           frictionless_ids)
     {
-      const unsigned int         k = directions.size();
-      dealii::FullMatrix<double> G(k, k);
-      Vector<double>             rhs(k), a(k);
-      for (unsigned int i = 0; i < k; ++i)
-        {
-          rhs[i] = directions[i].normal * reaction;
-          for (unsigned int j = 0; j < k; ++j)
-            G(i, j) = directions[i].normal * directions[j].normal;
-        }
-      G.gauss_jordan();
-      G.vmult(a, rhs);
+      const unsigned int          k = directions.size();
+      std::vector<Tensor<1, dim>> normals;
+      for (const auto &direction : directions)
+        normals.push_back(direction.normal);
+      const std::vector<double> a = normal_components(normals, reaction);
       std::vector<std::pair<BoundaryId, Tensor<1, dim>>> parts;
       Tensor<1, dim>                                     remainder = reaction;
       for (unsigned int i = 0; i < k; ++i)

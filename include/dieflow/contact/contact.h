@@ -326,6 +326,9 @@ namespace dieflow
     /// The largest speed of the last update (the 3D slip floor's scale).
     double                     largest_speed = 1;
     std::vector<std::size_t>   recent_signatures;
+    /// The velocity of the last update, to tell when Newton has stopped
+    /// moving the solution (3D ties on the cone, see update()).
+    dealii::Vector<double>     previous_velocity;
   };
 
   /**

@@ -146,6 +146,21 @@ namespace dieflow
                               const std::vector<Tensor<1, dim>> &     normals,
                               const std::vector<double> &             values,
                               AffineConstraints<double> &             constraints);
+
+  /**
+   * The components a_k of a node's reaction R along the normals n_k of the
+   * walls that hold it: R = sum_k a_k n_k + a rest normal to all of them
+   * (friction), a the least-squares solution of least norm. Up to dim
+   * independent normals (a wall, a 2D corner, a 3D edge, a 3D corner of
+   * three planes) it is unique; where more walls meet than there are
+   * dimensions (a 3D die edge through the die entry: two container walls
+   * and two die faces) the split is statically indeterminate, and the
+   * least-norm one shares the reaction among the walls that can carry it.
+   */
+  template <int dim>
+  std::vector<double>
+  normal_components(const std::vector<Tensor<1, dim>> &normals, const Tensor<1, dim> &reaction);
+
 } // namespace dieflow
 
 #endif
