@@ -58,13 +58,17 @@ namespace dieflow
     {
       prm.declare_entry("Source",
                         "die2d",
-                        Selection("die2d|round bar quarter|box|gmsh"),
+                        Selection("die2d|round bar quarter|rectangular bar quarter|box|gmsh"),
                         "Where the coarse mesh comes from: the built-in die2d "
                         "scene (subsection Die2d; with Dimension = 3 extruded in "
                         "z, see Depth), the die2d profile as a round bar through "
                         "a conical die, a quarter of it (Dimension = 3; the "
                         "Die2d heights are radii; ids as die2d, 5 the two "
-                        "symmetry planes y = 0 and z = 0), an axis-parallel box "
+                        "symmetry planes y = 0 and z = 0), a rectangular bar through "
+                        "a die converging at different angles in y (the Die2d "
+                        "profile) and z (Inlet/Outlet half width), a quarter of it "
+                        "(Dimension = 3; ids 1-5 as the round bar, 6 the container "
+                        "wall and 7 the die face and land in z), an axis-parallel box "
                         "(subsection Box), or a Gmsh file whose physical groups "
                         "are the boundary ids.");
       prm.declare_entry("Gmsh file",
@@ -148,7 +152,22 @@ namespace dieflow
         prm.declare_entry("Cells in depth",
                           "1",
                           Integer(1, 4096),
-                          "Dimension = 3: the number of cell layers in z.");
+                          "Dimension = 3: the number of cell layers in z (the "
+                          "rectangular bar quarter: cells across its half width).");
+        prm.declare_entry("Inlet half width",
+                          "10",
+                          Double(),
+                          "Source = rectangular bar quarter: the half width in z "
+                          "(mm) of the container; the die narrows it linearly to "
+                          "Outlet half width over the die length of the y profile "
+                          "(semi-angle atan((w_i - w_o)/x_d) in z).");
+        prm.declare_entry("Outlet half width",
+                          "6",
+                          Double(),
+                          "Source = rectangular bar quarter: the half width in z "
+                          "(mm) of the land, at most Inlet half width (equal: the "
+                          "die converges in y only, and with ids 6, 7 as symmetry "
+                          "planes the bar is the plane-strain slab).");
       }
       prm.leave_subsection();
 
@@ -233,6 +252,13 @@ namespace dieflow
       die2d.layout             = prm.get("Layout");
       die2d.depth              = positive("Depth");
       die2d.cells_in_depth     = prm.get_integer("Cells in depth");
+      die2d.inlet_half_width   = positive("Inlet half width");
+      die2d.outlet_half_width  = positive("Outlet half width");
+      if (source == "rectangular bar quarter")
+        require(die2d.outlet_half_width <= die2d.inlet_half_width,
+                "Mesh/Die2d/Outlet half width",
+                "must not exceed Inlet half width (a die does not widen the bar), got " +
+                  prm.get("Outlet half width") + " > " + prm.get("Inlet half width"));
       require(die2d.outlet_half_height < die2d.inlet_half_height,
               "Mesh/Die2d/Outlet half height",
               "must be smaller than Inlet half height (a die reduces the section)");
@@ -299,6 +325,55 @@ namespace dieflow
       return n >= 1 ? static_cast<unsigned int>(n) : 1u;
     }
 
+    /**
+     * Where the three blocks of a die2d-like channel meet along the axis and
+     * how many cells each block has along it: the container from the inlet
+     * to x_1 (on the axis), the converging zone to x_2, the land to the
+     * outlet, each with cells of aspect ratio near one for @p across cells
+     * across. For the layout "bisected" x_1 and x_2 are where the bisectors
+     * of the die entry C and the die exit D (both of direction
+     * (-sin beta/2, -cos beta/2) for the semi-angle beta) meet the axis; for
+     * "blocks" they are 0 and x_d, the verticals through C and D.
+     */
+    struct AxialLayout
+    {
+      double       x_1, x_2;
+      unsigned int container_cells, die_cells, land_cells;
+    };
+
+    AxialLayout
+    axial_layout(const Die2dGeometry &g,
+                 const double         inlet_half_height,
+                 const double         outlet_half_height,
+                 const double         half_beta,
+                 const unsigned int   across)
+    {
+      const double h_i = inlet_half_height, h_o = outlet_half_height, x_d = g.die_exit_x();
+      const Point<2> A(-g.container_length, 0), C(0, h_i), D(x_d, h_o), F(x_d + g.land_length, 0);
+      // The bisectors of C and D meet the axis at x_1 and x_2; for a small
+      // reduction through a short steep die they cross before the axis
+      // (x_2 < x_1), and the bisected layout would turn the converging
+      // block inside out: it then falls back to the vertical blocks.
+      double       x_1             = std::max(-h_i * std::tan(half_beta), A[0] + 0.25 * g.container_length);
+      double       x_2             = x_d - h_o * std::tan(half_beta);
+      const bool   bisectors_apart = x_2 > x_1 + 0.25 * C.distance(D);
+      if (g.layout != "bisected" || !bisectors_apart)
+        {
+          x_1 = 0;
+          x_2 = x_d;
+        }
+      // Along the converging zone: the mean of its length on the axis and
+      // along the die face, so that the die face is resolved like the walls
+      // next to it.
+      const double across_c = 0.5 * (h_i + C.distance(Point<2>(x_1, 0))) / across;
+      const double across_z = 0.5 * (C.distance(Point<2>(x_1, 0)) + D.distance(Point<2>(x_2, 0))) / across;
+      return {x_1,
+              x_2,
+              cells_along(0.5 * (g.container_length + x_1 - A[0]), across_c),
+              cells_along(0.5 * (x_2 - x_1 + C.distance(D)), across_z),
+              cells_along(0.5 * (F[0] - x_2 + g.land_length), h_o / across)};
+    }
+
     void
     make_die2d(const Die2dGeometry &g, Triangulation<2> &triangulation)
     {
@@ -308,50 +383,22 @@ namespace dieflow
       const Point<2>     A = g.corner('A'), B = g.corner('B'), C = g.corner('C'),
                      D = g.corner('D'), E = g.corner('E'), F = g.corner('F');
 
-      Triangulation<2> land;
-      make_block(Point<2>(x_d, 0), F, D, E, cells_along(g.land_length, h_o / ny), ny, land);
-
-      // The bisectors of C and D meet the axis at x_1 and x_2; for a small
-      // reduction through a short steep die they cross before the axis
-      // (x_2 < x_1), and the bisected layout would turn the converging
-      // block inside out: it then falls back to the vertical blocks.
-      const double half_beta = 0.5 * g.die_angle_degrees * dealii::numbers::PI / 180.;
-      const double x_1 = std::max(-h_i * std::tan(half_beta), A[0] + 0.25 * g.container_length);
-      const double x_2 = x_d - h_o * std::tan(half_beta);
-      const bool   bisectors_apart = x_2 > x_1 + 0.25 * C.distance(D);
-
-      std::vector<Triangulation<2>> blocks(2);
-      if (x_d > 1e-9 * h_i && g.layout == "bisected" && bisectors_apart)
+      std::vector<Triangulation<2>> blocks(3);
+      if (x_d > 1e-9 * h_i)
         {
-          // The container and the converging zone meet on the bisector of the
-          // die entry C, the converging zone and the land on that of the die
-          // exit D: every cell at C and D then has the corner's half angle
-          // ((180 - beta)/2 at C, 90 + beta/2 at D), where the blocks that
-          // meet at the vertical through D leave a cell angle of 180 - beta
-          // at C and 90 + beta at D (160 degrees for the 70-degree die), which
-          // a bilinear cell resolves badly exactly where the solution is
-          // singular.
-          const double across_c = 0.5 * (h_i + C.distance(Point<2>(x_1, 0))) / ny;
-          make_block(A, Point<2>(x_1, 0), B, C,
-                     cells_along(0.5 * (g.container_length + x_1 - A[0]), across_c), ny, blocks[0]);
-          const double across_z = 0.5 * (C.distance(Point<2>(x_1, 0)) + D.distance(Point<2>(x_2, 0))) / ny;
-          make_block(Point<2>(x_1, 0), Point<2>(x_2, 0), C, D,
-                     cells_along(0.5 * (x_2 - x_1 + C.distance(D)), across_z), ny, blocks[1]);
-          Triangulation<2> bisected_land;
-          make_block(Point<2>(x_2, 0), F, D, E,
-                     cells_along(0.5 * (F[0] - x_2 + g.land_length), h_o / ny), ny, bisected_land);
-          land.clear();
-          land.copy_triangulation(bisected_land);
-        }
-      else if (x_d > 1e-9 * h_i)
-        {
-          make_block(A, Point<2>(0, 0), B, C, cells_along(g.container_length, h_i / ny), ny, blocks[0]);
-          // Along the converging zone: the mean of its length on the axis
-          // (x_d) and along the die face, so that the die face is resolved
-          // like the walls next to it.
-          const double face = C.distance(D);
-          make_block(Point<2>(0, 0), Point<2>(x_d, 0), C, D,
-                     cells_along(0.5 * (x_d + face), 0.5 * (h_i + h_o) / ny), ny, blocks[1]);
+          // Bisected: the container and the converging zone meet on the
+          // bisector of the die entry C, the converging zone and the land on
+          // that of the die exit D: every cell at C and D then has the
+          // corner's half angle ((180 - beta)/2 at C, 90 + beta/2 at D), where
+          // the blocks that meet at the vertical through D leave a cell angle
+          // of 180 - beta at C and 90 + beta at D (160 degrees for the
+          // 70-degree die), which a bilinear cell resolves badly exactly where
+          // the solution is singular.
+          const AxialLayout l =
+            axial_layout(g, h_i, h_o, 0.5 * g.die_angle_degrees * dealii::numbers::PI / 180., ny);
+          make_block(A, Point<2>(l.x_1, 0), B, C, l.container_cells, ny, blocks[0]);
+          make_block(Point<2>(l.x_1, 0), Point<2>(l.x_2, 0), C, D, l.die_cells, ny, blocks[1]);
+          make_block(Point<2>(l.x_2, 0), F, D, E, l.land_cells, ny, blocks[2]);
         }
       else
         {
@@ -361,8 +408,9 @@ namespace dieflow
           const unsigned int upper = cells_along(h_i - h_o, h_i / ny);
           make_block(A, Point<2>(0, 0), Point<2>(A[0], h_o), D, nx, ny, blocks[0]);
           make_block(Point<2>(A[0], h_o), D, B, C, nx, upper, blocks[1]);
+          make_block(Point<2>(0, 0), F, D, E, cells_along(g.land_length, h_o / ny), ny, blocks[2]);
         }
-      dealii::GridGenerator::merge_triangulations({&blocks[0], &blocks[1], &land},
+      dealii::GridGenerator::merge_triangulations({&blocks[0], &blocks[1], &blocks[2]},
                                                   triangulation,
                                                   1e-10 * h_i);
 
@@ -583,6 +631,113 @@ namespace dieflow
               face->set_boundary_id(c[0] < 0 ? Die2dGeometry::container_id : Die2dGeometry::die_id);
           }
     }
+
+    /**
+     * A rectangular bar through a die that converges at different angles in
+     * y and z, a quarter (y >= 0, z >= 0) with x the axis: the half height
+     * goes from h_i to h_o (the Die2d profile, semi-angle beta_y) and the
+     * half width from w_i to w_o over the same die length x_d (semi-angle
+     * beta_z = atan((w_i - w_o)/x_d)). A structured grid of Cells across x
+     * Cells in depth cells per section, swept along x through the three
+     * blocks of the die2d section: the vertex of section coordinates
+     * (xi, eta) in [0, 1]^2 and block fraction t lies at
+     *   y = xi h(t),  z = eta w(t),  x = x_C + t (x_D - x_C)  (die block),
+     * h and w linear along the die, and the blocks end on surfaces through
+     * both die-entry edges (and both die-exit edges): with Layout =
+     * bisected, x_C(xi, eta) = max((1 - xi) x_1y, (1 - eta) x_1z), each term
+     * the die2d section's bisector in its plane, which is zero on the wall
+     * of its own direction; so each wall's corner is a mesh line and, where
+     * one wall dominates, its cells have the bisected shape. Without a
+     * reduction in z (w_i = w_o) the mesh is the die2d section of the same
+     * Cells across extruded in z (tests/rectangular_bar_quarter). The cell
+     * counts along x are the larger of the two sections'.
+     * Ids: 1 inlet, 2 outlet, 3 container wall y = h_i, 4 die face and land
+     * y = h(x), 5 the symmetry planes y = 0 and z = 0, 6 container wall
+     * z = w_i, 7 die face and land z = w(x).
+     */
+    void
+    make_rectangular_bar_quarter(const Die2dGeometry &g, Triangulation<3> &triangulation)
+    {
+      const double x_d = g.die_exit_x();
+      require(x_d > 1e-9 * g.inlet_half_height,
+              "Mesh/Die2d/Die angle",
+              "must be below 90 degrees for Source = rectangular bar quarter (a flat die has no converging "
+              "zone for the section to shrink along)");
+      const double h_i = g.inlet_half_height, h_o = g.outlet_half_height;
+      const double w_i = g.inlet_half_width, w_o = g.outlet_half_width;
+      const bool   converges_in_z = w_o < w_i;
+
+      const AxialLayout in_y =
+        axial_layout(g, h_i, h_o, 0.5 * g.die_angle_degrees * dealii::numbers::PI / 180., g.cells_across);
+      const AxialLayout in_z =
+        converges_in_z ? axial_layout(g, w_i, w_o, 0.5 * std::atan2(w_i - w_o, x_d), g.cells_in_depth) : in_y;
+      const unsigned int n_c = std::max(in_y.container_cells, in_z.container_cells);
+      const unsigned int n_d = std::max(in_y.die_cells, in_z.die_cells);
+      const unsigned int n_l = std::max(in_y.land_cells, in_z.land_cells);
+
+      // A wall without a corner (no reduction in z) does not bind the
+      // blocks' ends.
+      const auto block_end = [&](const double xi, const double eta, const double y_end, const double z_end,
+                                 const double corner) {
+        const double along_y = corner + (1 - xi) * (y_end - corner);
+        return converges_in_z ? std::max(along_y, corner + (1 - eta) * (z_end - corner)) : along_y;
+      };
+
+      dealii::GridGenerator::subdivided_hyper_rectangle(triangulation,
+                                                        {n_c + n_d + n_l, g.cells_across, g.cells_in_depth},
+                                                        Point<3>(0, 0, 0),
+                                                        Point<3>(n_c + n_d + n_l, 1, 1),
+                                                        /*colorize=*/true);
+      const double x_end = x_d + g.land_length;
+      dealii::GridTools::transform(
+        [&](const Point<3> &p) {
+          const double s = p[0], xi = p[1], eta = p[2];
+          const double x_C = block_end(xi, eta, in_y.x_1, in_z.x_1, 0.);
+          const double x_D = block_end(xi, eta, in_y.x_2, in_z.x_2, x_d);
+          double       x, t;
+          if (s <= n_c)
+            {
+              x = -g.container_length + (s / n_c) * (x_C + g.container_length);
+              t = 0;
+            }
+          else if (s <= n_c + n_d)
+            {
+              t = (s - n_c) / n_d;
+              x = x_C + t * (x_D - x_C);
+            }
+          else
+            {
+              x = x_D + (s - n_c - n_d) / n_l * (x_end - x_D);
+              t = 1;
+            }
+          return Point<3>(x, xi * (h_i + t * (h_o - h_i)), eta * (w_i + t * (w_o - w_i)));
+        },
+        triangulation);
+
+      // colorize numbered the faces 0..5 for x-, x+, y-, y+, z-, z+.
+      for (const auto &face : triangulation.active_face_iterators())
+        if (face->at_boundary())
+          {
+            const bool in_container = face->center()[0] < 0;
+            switch (face->boundary_id())
+              {
+                case 0:
+                  face->set_boundary_id(Die2dGeometry::inlet_id);
+                  break;
+                case 1:
+                  face->set_boundary_id(Die2dGeometry::outlet_id);
+                  break;
+                case 3:
+                  face->set_boundary_id(in_container ? Die2dGeometry::container_id : Die2dGeometry::die_id);
+                  break;
+                case 5:
+                  face->set_boundary_id(in_container ? Die2dGeometry::front_id : Die2dGeometry::back_id);
+                  break;
+                default:
+                  face->set_boundary_id(Die2dGeometry::symmetry_id);
+              }
+          }
+    }
   } // namespace
 
 
@@ -612,6 +767,14 @@ namespace dieflow
         else
           throw InputError("Mesh/Source: 'round bar quarter' is a 3D mesh; set Dimension = 3 (in 2D the "
                            "round bar is the die2d scene with Geometry = axisymmetric)");
+      }
+    else if (parameters.source == "rectangular bar quarter")
+      {
+        if constexpr (dim == 3)
+          make_rectangular_bar_quarter(parameters.die2d, triangulation);
+        else
+          throw InputError("Mesh/Source: 'rectangular bar quarter' is a 3D mesh; set Dimension = 3 (in 2D "
+                           "the die2d scene is its section)");
       }
     else if (parameters.source == "box")
       make_box(parameters.box, triangulation);

@@ -46,6 +46,9 @@ namespace dieflow
     /// Dimension = 3: the scene extruded over z in [0, depth] (ids 6, 7).
     double       depth              = 1;
     unsigned int cells_in_depth     = 1;
+    /// Source = rectangular bar quarter: the half widths in z.
+    double       inlet_half_width   = 10;
+    double       outlet_half_width  = 6;
 
     double
     die_exit_x() const;
