@@ -65,3 +65,45 @@ plot '$work/drawing.dat' using 1:4 with lines lw 2 title 'Avitzur upper bound (m
      '' using 1:2 with lines lw 2 dt 2 title 'ideal work ln(A_0/A_f)'
 GP
 echo "wrote doc/images/drawing-stress.png"
+
+# A genuinely 3D die (doc/three-dimensional.md): the contact pressure and the
+# stick / slip / separated map on the two die walls of parameters/rectbar3d.prm,
+# each wall unrolled onto its own plane (the y wall seen along y, the z wall
+# along z; x the drawing direction).
+sed -e "s|^set Output directory.*|set Output directory = $work/rectbar3d|" \
+    -e "s|^set Write VTU .*|set Write VTU = false|" parameters/rectbar3d.prm > "$work/rectbar3d.prm"
+$program "$work/rectbar3d.prm" > /dev/null
+r="$work/rectbar3d"
+gnuplot <<GP
+set terminal pngcairo size 1300,820 font "sans,11"
+set output 'doc/images/rectbar3d-contact.png'
+set multiplot layout 2,2 title 'parameters/rectbar3d.prm: 38 x 20 mm bar drawn to 9.5 x 12 mm (die 70 degrees in y, 37.6 degrees in z, mu = 0.1), quarter model'
+set size ratio -1
+set xrange [-20:21]
+set xlabel 'x (mm)'
+set palette rgbformulae 33,13,10
+set cblabel 'contact pressure (MPa)'
+# The die-exit line (the re-entrant corner, singular) carries 1,900-2,050 MPa: off the scale.
+set cbrange [0:600]
+set ylabel 'z (mm)'
+set title 'y walls (container y = 19, die face and land): contact pressure'
+plot '$r/die-surface-3.dat' using 1:3:4 with points pt 5 ps 1.4 palette notitle, \
+     '$r/die-surface-4.dat' using 1:3:4 with points pt 5 ps 1.4 palette notitle
+set ylabel 'y (mm)'
+set title 'z walls (container z = 10, die face and land): contact pressure'
+plot '$r/die-surface-6.dat' using 1:2:4 with points pt 5 ps 1.4 palette notitle, \
+     '$r/die-surface-7.dat' using 1:2:4 with points pt 5 ps 1.4 palette notitle
+unset colorbox
+set palette defined (0 'grey70', 1 'blue', 2 'red')
+set cbrange [0:2]
+set ylabel 'z (mm)'
+set title 'y walls: separated (grey), stick (blue), slip (red)'
+plot '$r/die-surface-3.dat' using 1:3:(\$13) with points pt 5 ps 1.4 palette notitle, \
+     '$r/die-surface-4.dat' using 1:3:(\$13) with points pt 5 ps 1.4 palette notitle
+set ylabel 'y (mm)'
+set title 'z walls: separated (grey), stick (blue), slip (red)'
+plot '$r/die-surface-6.dat' using 1:2:(\$13) with points pt 5 ps 1.4 palette notitle, \
+     '$r/die-surface-7.dat' using 1:2:(\$13) with points pt 5 ps 1.4 palette notitle
+unset multiplot
+GP
+echo "wrote doc/images/rectbar3d-contact.png"
