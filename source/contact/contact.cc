@@ -468,11 +468,19 @@ namespace dieflow
             largest_force = std::max(largest_force, std::abs(f));
         }
     const double dead_band = 1e-6 * largest_force;
-    dealii::Vector<double> moved(v);
-    if (previous_velocity.size() == v.size())
-      moved -= previous_velocity;
-    const bool at_round_off = previous_velocity.size() == v.size() && moved.l2_norm() <= 1e-10 * v.l2_norm();
-    previous_velocity       = v;
+    // Only 3D asks whether Newton has stopped moving the solution (ties on
+    // the cone below); 2D keeps no copy of the velocity.
+    bool at_round_off = false;
+    if (dim == 3)
+      {
+        if (previous_velocity.size() == v.size())
+          {
+            dealii::Vector<double> moved(v);
+            moved -= previous_velocity;
+            at_round_off = moved.l2_norm() <= 1e-10 * v.l2_norm();
+          }
+        previous_velocity = v;
+      }
 
     for (unsigned int i = 0; i < nodes.size(); ++i)
       {
@@ -546,13 +554,11 @@ namespace dieflow
                 // 2D keeps its rule: applied there from the first
                 // iteration, or with a band of 1e-6, it changed the states
                 // of the 2D stress cases.
-                if (dim == 3 && at_round_off && state.first != dir.status && dir.status != ContactStatus::separated &&
+                if (at_round_off && state.first != dir.status && dir.status != ContactStatus::separated &&
                     law.kind != FrictionLaw::Kind::regularised_coulomb)
                   {
-                    const double bound  = law.kind == FrictionLaw::Kind::tresca ?
-                                            law.shear_bound :
-                                            law.mu * std::max(-dir.normal_force, 0.);
-                    const double excess = (current - contact_constant(dir) * slip_rate).norm() - bound;
+                    const double excess =
+                      (current - contact_constant(dir) * slip_rate).norm() - law.bound(dir.normal_force);
                     if (std::abs(excess) <= 1e-12 * largest_force)
                       state.first = dir.status;
                   }

@@ -102,9 +102,7 @@ namespace dieflow
         case FrictionLaw::Kind::coulomb:
         case FrictionLaw::Kind::tresca:
           {
-            const double bound = (law.kind == FrictionLaw::Kind::tresca) ?
-                                   law.shear_bound :
-                                   law.mu * std::max(-normal_force, 0.);
+            const double bound = law.bound(normal_force);
             const Slip trial = friction_force - c * slip_rate;
             // Without a bound (no friction, no pressure) nothing can stick.
             return {bound > 0 && trial.norm() <= bound ? ContactStatus::stick : ContactStatus::slip,

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 
 namespace dieflow
@@ -50,6 +51,14 @@ namespace dieflow
     frictionless() const
     {
       return kind == Kind::tresca ? shear_bound == 0 : mu == 0;
+    }
+
+    /// The bound of |F_t| for Coulomb (mu |F_n|, zero where the die pulls,
+    /// F_n > 0) and Tresca (m k w).
+    double
+    bound(const double normal_force) const
+    {
+      return kind == Kind::tresca ? shear_bound : mu * std::max(-normal_force, 0.);
     }
   };
 
