@@ -43,6 +43,8 @@ namespace dieflow
     double       land_length        = 15;
     unsigned int cells_across       = 4;
     std::string  layout             = "bisected";
+    /// Power grading towards the die corners and the walls (1: uniform).
+    double       grading_exponent   = 1;
     /// Dimension = 3: the scene extruded over z in [0, depth] (ids 6, 7).
     double       depth              = 1;
     unsigned int cells_in_depth     = 1;
