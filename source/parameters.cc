@@ -156,30 +156,43 @@ namespace dieflow
 
 
 
-  std::vector<std::pair<BoundaryId, double>>
-  parse_id_value_map(const std::string &entry, const std::string &text)
+  std::vector<std::pair<BoundaryId, std::string>>
+  parse_id_text_map(const std::string &entry, const std::string &text)
   {
-    std::vector<std::pair<BoundaryId, double>> result;
+    std::vector<std::pair<BoundaryId, std::string>> result;
     for (const std::string &item : dealii::Utilities::split_string_list(text, ','))
       {
         if (item.empty())
           continue;
         const auto parts = dealii::Utilities::split_string_list(item, ':');
-        require(parts.size() == 2,
+        require(parts.size() == 2 && !parts[1].empty(),
                 entry,
                 "'" + item + "' is not of the form 'id: value'");
         const auto id = parse_id_list(entry, parts[0]);
         require(id.size() == 1, entry, "'" + item + "' names no boundary id");
-        char *       end   = nullptr;
-        const double value = std::strtod(parts[1].c_str(), &end);
-        require(end != parts[1].c_str() && *end == '\0' && std::isfinite(value),
-                entry,
-                "'" + parts[1] + "' is not a number");
         for (const auto &p : result)
           require(p.first != *id.begin(),
                   entry,
                   "boundary id " + parts[0] + " is listed twice");
-        result.emplace_back(*id.begin(), value);
+        result.emplace_back(*id.begin(), parts[1]);
+      }
+    return result;
+  }
+
+
+
+  std::vector<std::pair<BoundaryId, double>>
+  parse_id_value_map(const std::string &entry, const std::string &text)
+  {
+    std::vector<std::pair<BoundaryId, double>> result;
+    for (const auto &[id, text_value] : parse_id_text_map(entry, text))
+      {
+        char *       end   = nullptr;
+        const double value = std::strtod(text_value.c_str(), &end);
+        require(end != text_value.c_str() && *end == '\0' && std::isfinite(value),
+                entry,
+                "'" + text_value + "' is not a number");
+        result.emplace_back(id, value);
       }
     return result;
   }

@@ -147,6 +147,8 @@ namespace dieflow
       }
     contact_parameters.parse_parameters(prm);
     contact.initialize(contact_parameters);
+    for (const auto &[id, file] : contact_parameters.die_surface_files)
+      die_surfaces[id].read(file, deck_directory, "Contact/Die surfaces");
 
     prm.enter_subsection("Verification");
     if (!prm.get("Exact velocity").empty())
@@ -240,6 +242,10 @@ namespace dieflow
                 "Refinement/Indicator",
                 "'dual weighted' needs Linear solver/Method = direct (the augmented Lagrangian of the "
                 "iterative method is not covered)");
+        require(die_surfaces.empty(),
+                "Refinement/Indicator",
+                "'dual weighted' does not take Contact/Die surfaces yet (its dual problem finds the die "
+                "facets from the mesh); use Kelly");
       }
     require(!boundary_conditions.velocity_ids.empty(),
             "Boundary conditions/Prescribed velocity ids",
@@ -263,6 +269,7 @@ namespace dieflow
     std::set<BoundaryId> walls = boundary_conditions.wall_ids();
     walls.insert(contact_parameters.die_ids.begin(), contact_parameters.die_ids.end());
     wall_nodes = collect_wall_nodes(coordinates, dof_handler, walls, hanging_node_constraints, boundary_conditions.corner_angle);
+    attach_die_surfaces(die_surfaces, boundary_conditions.corner_angle, wall_nodes);
     if (!contact.empty())
       {
         boundary_conditions.make_prescribed_constraints(dof_handler, prescribed_constraints);

@@ -68,6 +68,11 @@ namespace dieflow
   std::set<BoundaryId>
   parse_id_list(const std::string &entry, const std::string &text);
 
+  /// 'id: text, id: text' (Contact/Die surfaces: a file per die id), each
+  /// id once; what follows the colon is kept as written.
+  std::vector<std::pair<BoundaryId, std::string>>
+  parse_id_text_map(const std::string &entry, const std::string &text);
+
   /**
    * Parses a comma-separated list "id: value, id: value" of numbers per
    * boundary id, as used for friction coefficients.

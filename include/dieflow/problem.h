@@ -16,6 +16,7 @@
 #include <dieflow/postprocess/study.h>
 #include <dieflow/postprocess/summary.h>
 #include <dieflow/mesh/wall_nodes.h>
+#include <dieflow/contact/die_surface.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/timer.h>
@@ -248,6 +249,8 @@ namespace dieflow
     RefinementParameters                       refinement;
     ContactParameters                          contact_parameters;
     ContactSet<dim>                            contact;
+    /// Dies given on their own (Contact/Die surfaces), by boundary id.
+    std::map<BoundaryId, DieSurface<dim>>      die_surfaces;
     /// False until the first solve of a run: the contact states are then
     /// judged from a velocity that solves something.
     bool                                       contact_states_valid = false;

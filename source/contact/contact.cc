@@ -85,6 +85,18 @@ namespace dieflow
                       "1",
                       Double(0),
                       "c = constant x eta_m / h in the active-set rule p + c v.n > 0.");
+    prm.declare_entry("Die surfaces",
+                      "",
+                      Anything(),
+                      "Dies given on their own, as 'id: file, ...': a Gmsh surface "
+                      "mesh (lines in 2D; triangles or quadrilaterals in 3D, the "
+                      "latter split in two) per die id. Each wall node of that id "
+                      "takes its master facet and normal from the surface by the "
+                      "node-to-facet search (doc/contact.md) instead of from the "
+                      "metal's mesh; the metal's die boundary must lie on the "
+                      "surface (within 1e-6 of its size). A relative path is "
+                      "relative to the deck's directory. Empty: the dies are the "
+                      "mesh's boundary faces.");
     prm.leave_subsection();
   }
 
@@ -128,6 +140,14 @@ namespace dieflow
     tangential_penalty_factor = prm.get_double("Tangential penalty factor");
     regularisation_velocity   = prm.get_double("Regularisation velocity");
     active_set_constant       = prm.get_double("Active set constant");
+    die_surface_files.clear();
+    for (const auto &[id, file] : parse_id_text_map("Contact/Die surfaces", prm.get("Die surfaces")))
+      {
+        require(die_ids.count(id),
+                "Contact/Die surfaces",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        die_surface_files[id] = file;
+      }
     require(!(normal_enforcement == "penalty" && normal_penalty_factor <= 0 && !die_ids.empty()),
             "Contact/Normal penalty factor",
             "must be positive for Normal enforcement = penalty");

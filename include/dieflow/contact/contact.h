@@ -38,6 +38,8 @@ namespace dieflow
     double                       tangential_penalty_factor = 100;
     double                       regularisation_velocity   = 1;
     double                       active_set_constant       = 1;
+    /// Die ids whose die is a surface mesh of its own (Gmsh file names).
+    std::map<BoundaryId, std::string> die_surface_files;
 
     static void
     declare_parameters(ParameterHandler &prm);

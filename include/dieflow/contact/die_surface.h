@@ -1,0 +1,116 @@
+#ifndef dieflow_die_surface_h
+#define dieflow_die_surface_h
+
+#include <dieflow/parameters.h>
+
+#include <dieflow/mesh/wall_nodes.h>
+
+#include <deal.II/base/bounding_box.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/numerics/rtree.h>
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dieflow
+{
+  using dealii::Point;
+
+  /**
+   * A rigid die given on its own, apart from the metal's mesh: a surface of
+   * facets (segments in 2D, triangles in 3D; a quadrilateral is split into
+   * two triangles along its diagonal 0-3) read from a Gmsh file, and the
+   * node-to-facet search that gives a node of the metal's wall its master
+   * facet, the segment 1-2 or triangle 1-2-3 of the paper's contact
+   * element, and its normal n = (x2 - x1) x (x3 - x1) / |.| (in 2D the
+   * segment's normal), oriented out of the metal.
+   *
+   * The search: the facets whose bounding boxes (widened by the tolerance)
+   * hold the node (an R-tree, so O(log N) per node), and among them those
+   * whose plane lies within the tolerance of the node, whose normal is
+   * within the corner angle of the metal's normal there (a node at a die
+   * corner finds one facet per wall direction), and that contain the node's
+   * projection (outside it by at most the tolerance); of these the one that
+   * holds it most inside.
+   */
+  template <int dim>
+  class DieSurface
+  {
+  public:
+    struct Facet
+    {
+      std::array<Point<dim>, dim> vertices;
+      /// Unit normal, in the orientation of the file (the search orients it).
+      Tensor<1, dim>              normal;
+    };
+
+    /**
+     * Reads a Gmsh file (format 2 or 4) of lines (2D) or triangles and
+     * quadrilaterals (3D); @p entry names the deck entry in messages, a
+     * relative path is relative to @p base_directory.
+     */
+    void
+    read(const std::string &file_name, const std::string &base_directory, const std::string &entry);
+
+    /// The facets of a surface given directly (tests; a moving die later).
+    void
+    set_facets(const std::vector<Facet> &facets);
+
+    struct Match
+    {
+      Facet  facet;
+      /// |(x - x_1).n|: the node's distance from the facet's plane.
+      double distance;
+    };
+
+    /**
+     * The master facet of the node at @p position whose wall has the
+     * metal's outward normal @p metal_normal, oriented like it, or none
+     * within @p tolerance (distance) and @p cos_corner (angle).
+     */
+    std::optional<Match>
+    find(const Point<dim> &position, const Tensor<1, dim> &metal_normal, const double tolerance,
+         const double cos_corner) const;
+
+    unsigned int
+    n_facets() const
+    {
+      return facets.size();
+    }
+
+    /// Diagonal of the bounding box of all facets.
+    double
+    diameter() const
+    {
+      return size;
+    }
+
+  private:
+    std::vector<Facet> facets;
+    double             size = 0;
+    using Box = std::pair<dealii::BoundingBox<dim>, unsigned int>;
+    dealii::RTree<Box> tree;
+  };
+
+  /**
+   * Die surfaces read on their own (Contact/Die surfaces): for every
+   * direction of a wall node whose id has a surface, its master facet and
+   * normal become the surface's, found by DieSurface::find(). In a steady
+   * run the metal's die boundary must lie on the die: a node farther from
+   * every facet of matching normal than 1e-6 of the surface's diameter is
+   * an input error that names the node and the distance.
+   */
+  template <int dim>
+  void
+  attach_die_surfaces(const std::map<BoundaryId, DieSurface<dim>> &surfaces,
+                      const double                                 corner_angle_degrees,
+                      std::vector<WallNode<dim>> &                 wall_nodes);
+
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,245 @@
+#include <dieflow/contact/die_surface.h>
+
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/tria.h>
+
+#include <boost/geometry/index/rtree.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace dieflow
+{
+  namespace
+  {
+    template <int dim>
+    Tensor<1, dim>
+    facet_normal(const std::array<Point<dim>, dim> &x)
+    {
+      Tensor<1, dim> n;
+      if constexpr (dim == 2)
+        {
+          n[0] = x[1][1] - x[0][1];
+          n[1] = x[0][0] - x[1][0];
+        }
+      else
+        n = dealii::cross_product_3d(x[1] - x[0], x[2] - x[0]);
+      return n;
+    }
+
+    /// Facet measure: length (2D), area (3D).
+    template <int dim>
+    double
+    facet_measure(const std::array<Point<dim>, dim> &x)
+    {
+      return dim == 2 ? facet_normal<dim>(x).norm() : 0.5 * facet_normal<dim>(x).norm();
+    }
+
+    /**
+     * The smallest barycentric coordinate of the projection of @p p onto
+     * the facet's plane (line): >= 0 inside, negative outside by about the
+     * distance over the facet size.
+     */
+    template <int dim>
+    double
+    insideness(const std::array<Point<dim>, dim> &x, const Point<dim> &p)
+    {
+      if constexpr (dim == 2)
+        {
+          const Tensor<1, 2> t  = x[1] - x[0];
+          const double       xi = (p - x[0]) * t / (t * t);
+          return std::min(xi, 1 - xi);
+        }
+      else
+        {
+          // Barycentric coordinates by the Gram system of the edges.
+          const Tensor<1, 3> e1 = x[1] - x[0], e2 = x[2] - x[0], d = p - x[0];
+          const double       a = e1 * e1, b = e1 * e2, c = e2 * e2, r1 = d * e1, r2 = d * e2;
+          const double       det = a * c - b * b;
+          const double       l1 = (c * r1 - b * r2) / det, l2 = (a * r2 - b * r1) / det;
+          return std::min({1 - l1 - l2, l1, l2});
+        }
+    }
+
+    template <int dim>
+    std::array<unsigned int, dim>
+    own_vertices()
+    {
+      std::array<unsigned int, dim> v;
+      for (unsigned int i = 0; i < dim; ++i)
+        v[i] = i;
+      return v;
+    }
+
+    template <int dim>
+    std::vector<std::array<unsigned int, dim>>
+    split_quadrilateral()
+    {
+      if constexpr (dim == 3)
+        return {{0, 1, 3}, {0, 3, 2}};
+      else
+        return {};
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  DieSurface<dim>::read(const std::string &file_name, const std::string &base_directory, const std::string &entry)
+  {
+    std::filesystem::path path(file_name);
+    if (path.is_relative() && !base_directory.empty())
+      path = std::filesystem::path(base_directory) / path;
+    std::ifstream in(path);
+    require(static_cast<bool>(in), entry, "cannot open '" + file_name + "' (missing or unreadable)");
+    in.peek();
+    require(!in.eof(), entry, "'" + file_name + "' is empty");
+
+    dealii::Triangulation<dim - 1, dim> surface;
+    dealii::GridIn<dim - 1, dim>        grid_in;
+    grid_in.attach_triangulation(surface);
+    try
+      {
+        grid_in.read_msh(in);
+      }
+    catch (const std::exception &exc)
+      {
+        throw InputError(entry + ": cannot read '" + file_name + "' as a Gmsh surface mesh of " +
+                         (dim == 2 ? "lines" : "triangles or quadrilaterals") + ": " + one_line_message(exc));
+      }
+
+    std::vector<Facet> read_facets;
+    for (const auto &cell : surface.active_cell_iterators())
+      {
+        // A quadrilateral's lexicographic vertices: the diagonal 0-3 splits it.
+        const std::vector<std::array<unsigned int, dim>> pieces =
+          cell->n_vertices() == dim ? std::vector<std::array<unsigned int, dim>>{own_vertices<dim>()} :
+                                      split_quadrilateral<dim>();
+        for (const auto &piece : pieces)
+          {
+            Facet f;
+            for (unsigned int v = 0; v < dim; ++v)
+              f.vertices[v] = cell->vertex(piece[v]);
+            read_facets.push_back(f);
+          }
+      }
+    require(!read_facets.empty(), entry, "'" + file_name + "' contains no facets");
+    set_facets(read_facets);
+  }
+
+
+
+  template <int dim>
+  void
+  DieSurface<dim>::set_facets(const std::vector<Facet> &new_facets)
+  {
+    facets.clear();
+    std::vector<Box> boxes;
+    for (const auto &f : new_facets)
+      {
+        Facet        facet = f;
+        const double length = facet_normal<dim>(facet.vertices).norm();
+        require(length > 0 && std::isfinite(length), "Contact/Die surfaces", "a facet of the die surface is degenerate");
+        facet.normal = facet_normal<dim>(facet.vertices) / length;
+        facets.push_back(facet);
+        const std::vector<Point<dim>> points(facet.vertices.begin(), facet.vertices.end());
+        boxes.emplace_back(dealii::BoundingBox<dim>(points), facets.size() - 1);
+      }
+    dealii::BoundingBox<dim> all = boxes.front().first;
+    for (const auto &b : boxes)
+      all.merge_with(b.first);
+    size = all.vertex(0).distance(all.vertex((1 << dim) - 1));
+    // Widened by the search tolerance (attach_die_surfaces: 1e-6 of the
+    // diameter), so that a node off the plane by round-off still hits.
+    for (auto &b : boxes)
+      b.first.extend(1e-6 * size);
+    tree = dealii::pack_rtree(boxes);
+  }
+
+
+
+  template <int dim>
+  std::optional<typename DieSurface<dim>::Match>
+  DieSurface<dim>::find(const Point<dim> &position, const Tensor<1, dim> &metal_normal, const double tolerance,
+                        const double cos_corner) const
+  {
+    std::vector<Box> hits;
+    tree.query(boost::geometry::index::intersects(position), std::back_inserter(hits));
+
+    std::optional<Match> best;
+    double               best_insideness = -std::numeric_limits<double>::max();
+    // The node may lie on an edge or vertex of the die, shared by facets of
+    // different normals (a faceted cone): its normal is their mean, by
+    // measure, as the mesh's walls do (WallNode).
+    Tensor<1, dim> mean_normal;
+    for (const auto &[box, index] : hits)
+      {
+        const Facet &f         = facets[index];
+        const double alignment = f.normal * metal_normal;
+        if (std::abs(alignment) < cos_corner)
+          continue;
+        const double distance = std::abs((position - f.vertices[0]) * f.normal);
+        // Outside the facet by at most the tolerance, too (a node at a
+        // facet's edge, written with fewer digits).
+        const double scale  = std::sqrt(facet_measure<dim>(f.vertices));
+        const double inside = insideness<dim>(f.vertices, position);
+        if (distance > tolerance || inside * scale < -tolerance)
+          continue;
+        const Tensor<1, dim> oriented = alignment > 0 ? f.normal : -f.normal;
+        mean_normal += facet_measure<dim>(f.vertices) * oriented;
+        if (inside > best_insideness)
+          {
+            best_insideness = inside;
+            best            = Match{{f.vertices, oriented}, distance};
+          }
+      }
+    if (best)
+      best->facet.normal = mean_normal / mean_normal.norm();
+    return best;
+  }
+
+
+
+  template <int dim>
+  void
+  attach_die_surfaces(const std::map<BoundaryId, DieSurface<dim>> &surfaces,
+                      const double                                 corner_angle_degrees,
+                      std::vector<WallNode<dim>> &                 wall_nodes)
+  {
+    const double cos_corner = std::cos(corner_angle_degrees * dealii::numbers::PI / 180.);
+    for (auto &node : wall_nodes)
+      for (auto &direction : node.directions)
+        {
+          const auto surface = surfaces.find(direction.id);
+          if (surface == surfaces.end())
+            continue;
+          const double tolerance = 1e-6 * surface->second.diameter();
+          const auto   match     = surface->second.find(node.position, direction.normal, tolerance, cos_corner);
+          if (!match)
+            {
+              std::ostringstream message;
+              message.precision(6);
+              message << "the metal's wall node at (" << node.position << ") of boundary id " << direction.id
+                      << " lies on no facet of its die surface with a normal within " << corner_angle_degrees
+                      << " degrees of the wall's (tolerance " << tolerance
+                      << " mm): in a steady run the metal's die boundary must lie on the die surface";
+              throw InputError("Contact/Die surfaces: " + message.str());
+            }
+          direction.facet  = match->facet.vertices;
+          direction.normal = match->facet.normal;
+        }
+  }
+
+
+
+  template class DieSurface<2>;
+  template class DieSurface<3>;
+  template void
+  attach_die_surfaces<2>(const std::map<BoundaryId, DieSurface<2>> &, const double, std::vector<WallNode<2>> &);
+  template void
+  attach_die_surfaces<3>(const std::map<BoundaryId, DieSurface<3>> &, const double, std::vector<WallNode<3>> &);
+} // namespace dieflow
