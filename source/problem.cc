@@ -520,7 +520,7 @@ namespace dieflow
     if (mixed_form)
       solve_mixed(update, linear_solver.forcing_tolerance(relative_residual, penalty_factor()));
     else if (augmented)
-      linear_solver.solve_iteratively(system_matrix, matrix_symmetric, system_rhs, update);
+      linear_solver.solve_iteratively(dim, system_matrix, matrix_symmetric, system_rhs, update);
     else
       {
         linear_solver.factorize(system_matrix, matrix_symmetric);
@@ -590,6 +590,7 @@ namespace dieflow
     // contact projections' moves in the pressure, a residual some 1e9 too
     // large that turned the line search and the Picard step that followed
     // into a divergence (die2d, Norton-Hoff m = 0.05, 64 cells across).
+    LinearSolver::require_direct_fallback_fits(dim, system_matrix.m());
     ++linear_solver.counts.direct_fallbacks;
     multiplier = 0;
     mixed_form = false;

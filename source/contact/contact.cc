@@ -92,9 +92,9 @@ namespace dieflow
                       "mesh (lines in 2D; triangles or quadrilaterals in 3D, the "
                       "latter split in two) per die id. Each wall node of that id "
                       "takes its master facet and normal from the surface by the "
-                      "node-to-facet search (doc/contact.md) instead of from the "
-                      "metal's mesh; the metal's die boundary must lie on the "
-                      "surface (within 1e-6 of its size). A relative path is "
+                      "node-to-facet search (doc/three-dimensional.md) instead of "
+                      "from the metal's mesh; the metal's die boundary must lie on "
+                      "the surface (within 1e-6 of its size). A relative path is "
                       "relative to the deck's directory. Empty: the dies are the "
                       "mesh's boundary faces.");
     prm.leave_subsection();

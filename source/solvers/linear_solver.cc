@@ -4,7 +4,12 @@
 #include <suitesparse/umfpack.h>
 
 #include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
 #include <numeric>
+#include <sstream>
 
 namespace dieflow
 {
@@ -426,7 +431,8 @@ namespace dieflow
 
 
   void
-  LinearSolver::solve_iteratively(const dealii::SparseMatrix<double> &matrix,
+  LinearSolver::solve_iteratively(const unsigned int                  dim,
+                                  const dealii::SparseMatrix<double> &matrix,
                                   const bool                          symmetric,
                                   const dealii::Vector<double> &      rhs,
                                   dealii::Vector<double> &            solution)
@@ -437,9 +443,42 @@ namespace dieflow
     counts.krylov_iterations += info.iterations;
     if (info.converged)
       return;
+    require_direct_fallback_fits(dim, matrix.m());
     ++counts.direct_fallbacks;
     factorize(matrix, symmetric);
     solve(rhs, solution);
+  }
+
+
+
+  double
+  LinearSolver::direct_memory_estimate(const unsigned int dim, const std::size_t n_dofs)
+  {
+    const double n = static_cast<double>(n_dofs);
+    return dim == 2 ? 2.3e9 * n / 458000. : 1.9e9 * std::pow(n / 42315., 4. / 3.);
+  }
+
+
+
+  void
+  LinearSolver::require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs)
+  {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string   key;
+    double        kilobytes = 0;
+    while (meminfo >> key >> kilobytes && key != "MemAvailable:")
+      meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    if (key != "MemAvailable:" || kilobytes <= 0)
+      return; // Not Linux, or no figure: nothing to compare with.
+    const double needed = direct_memory_estimate(dim, n_dofs), available = 1024. * kilobytes;
+    if (needed <= available)
+      return;
+    std::ostringstream message;
+    message << std::fixed << std::setprecision(1) << "the iterative linear solver did not converge, and its direct "
+            << "fallback for " << n_dofs << " unknowns would need about " << needed / 1e9 << " GB, more than the "
+            << available / 1e9 << " GB free: loosen Linear solver/Iterative tolerance, or solve a coarser mesh "
+            << "first and refine (Refinement/Cycles), so that each solve starts closer to its answer";
+    throw ResourceFailure(message.str());
   }
 
 

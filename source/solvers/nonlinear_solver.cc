@@ -275,6 +275,11 @@ namespace dieflow
               ++result.linear_solves;
               return true;
             }
+          catch (const ResourceFailure &failure)
+            {
+              result.failure = std::string(failure.what()) + " (at iteration " + std::to_string(k) + ")";
+              return false;
+            }
           catch (const SolverFailure &failure)
             {
               result.failure =

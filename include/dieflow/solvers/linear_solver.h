@@ -22,6 +22,13 @@ namespace dieflow
     using std::runtime_error::runtime_error;
   };
 
+  /// A solve this machine cannot afford (its message is the whole story).
+  class ResourceFailure : public SolverFailure
+  {
+  public:
+    using SolverFailure::SolverFailure;
+  };
+
   /**
    * Solves the linearised systems J du = -R with SuiteSparse's sparse direct
    * solvers, called directly so that the fill-reducing ordering and symbolic
@@ -92,9 +99,31 @@ namespace dieflow
     void
     set_constant_modes(const std::vector<std::vector<bool>> &modes);
 
-    /// Solves @p matrix x = @p rhs iteratively, or, if that fails, directly.
+    /**
+     * The peak memory (bytes) expected of a direct solve of @p n_dofs
+     * unknowns in @p dim dimensions, from this program's measured runs
+     * (degree 2, AMD EPYC): 2D 2.3 GB at 458,000 unknowns, about linear
+     * (N^0.93, doc/benchmarks.md); 3D 1.9 GB at 42,315 (the graded round
+     * bar quarter, doc/three-dimensional.md), grown as N^(4/3), the fill of
+     * a nested-dissection factorisation in 3D.
+     */
+    static double
+    direct_memory_estimate(const unsigned int dim, const std::size_t n_dofs);
+
+    /**
+     * Throws ResourceFailure, with the sizes, where the direct fallback of a
+     * failed iterative solve would need more memory than the machine has
+     * free (MemAvailable): the fallback of a 316,179-unknown 3D solve was
+     * killed by the kernel at 23 GB, without a word.
+     */
+    static void
+    require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
+
+    /// Solves @p matrix x = @p rhs iteratively, or, if that fails, directly
+    /// (for a mesh of dimension @p dim, where that fits in memory).
     void
-    solve_iteratively(const dealii::SparseMatrix<double> &matrix,
+    solve_iteratively(const unsigned int                  dim,
+                      const dealii::SparseMatrix<double> &matrix,
                       const bool                          symmetric,
                       const dealii::Vector<double> &      rhs,
                       dealii::Vector<double> &            solution);
