@@ -1,13 +1,11 @@
 #include <dieflow/contact/die_surface.h>
+#include <dieflow/mesh/geometry.h>
 
-#include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
 #include <boost/geometry/index/rtree.hpp>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -63,26 +61,6 @@ namespace dieflow
           return std::min({1 - l1 - l2, l1, l2});
         }
     }
-
-    template <int dim>
-    std::array<unsigned int, dim>
-    own_vertices()
-    {
-      std::array<unsigned int, dim> v;
-      for (unsigned int i = 0; i < dim; ++i)
-        v[i] = i;
-      return v;
-    }
-
-    template <int dim>
-    std::vector<std::array<unsigned int, dim>>
-    split_quadrilateral()
-    {
-      if constexpr (dim == 3)
-        return {{0, 1, 3}, {0, 3, 2}};
-      else
-        return {};
-    }
   } // namespace
 
 
@@ -91,34 +69,23 @@ namespace dieflow
   void
   DieSurface<dim>::read(const std::string &file_name, const std::string &base_directory, const std::string &entry)
   {
-    std::filesystem::path path(file_name);
-    if (path.is_relative() && !base_directory.empty())
-      path = std::filesystem::path(base_directory) / path;
-    std::ifstream in(path);
-    require(static_cast<bool>(in), entry, "cannot open '" + file_name + "' (missing or unreadable)");
-    in.peek();
-    require(!in.eof(), entry, "'" + file_name + "' is empty");
-
     dealii::Triangulation<dim - 1, dim> surface;
-    dealii::GridIn<dim - 1, dim>        grid_in;
-    grid_in.attach_triangulation(surface);
-    try
-      {
-        grid_in.read_msh(in);
-      }
-    catch (const std::exception &exc)
-      {
-        throw InputError(entry + ": cannot read '" + file_name + "' as a Gmsh surface mesh of " +
-                         (dim == 2 ? "lines" : "triangles or quadrilaterals") + ": " + one_line_message(exc));
-      }
+    read_msh_file(file_name,
+                  base_directory,
+                  entry,
+                  dim == 2 ? "a Gmsh surface mesh of lines" : "a Gmsh surface mesh of triangles or quadrilaterals",
+                  surface);
 
     std::vector<Facet> read_facets;
     for (const auto &cell : surface.active_cell_iterators())
       {
-        // A quadrilateral's lexicographic vertices: the diagonal 0-3 splits it.
-        const std::vector<std::array<unsigned int, dim>> pieces =
-          cell->n_vertices() == dim ? std::vector<std::array<unsigned int, dim>>{own_vertices<dim>()} :
-                                      split_quadrilateral<dim>();
+        // A facet's own vertices; a quadrilateral's (lexicographic) split
+        // on its diagonal 0-3.
+        std::vector<std::vector<unsigned int>> pieces(1);
+        for (unsigned int v = 0; v < dim; ++v)
+          pieces[0].push_back(v);
+        if (dim == 3 && cell->n_vertices() == 4)
+          pieces = {{0, 1, 3}, {0, 3, 2}};
         for (const auto &piece : pieces)
           {
             Facet f;
@@ -141,10 +108,11 @@ namespace dieflow
     std::vector<Box> boxes;
     for (const auto &f : new_facets)
       {
-        Facet        facet = f;
-        const double length = facet_normal<dim>(facet.vertices).norm();
+        Facet                facet  = f;
+        const Tensor<1, dim> normal = facet_normal<dim>(facet.vertices);
+        const double         length = normal.norm();
         require(length > 0 && std::isfinite(length), "Contact/Die surfaces", "a facet of the die surface is degenerate");
-        facet.normal = facet_normal<dim>(facet.vertices) / length;
+        facet.normal = normal / length;
         facets.push_back(facet);
         const std::vector<Point<dim>> points(facet.vertices.begin(), facet.vertices.end());
         boxes.emplace_back(dealii::BoundingBox<dim>(points), facets.size() - 1);
@@ -185,12 +153,12 @@ namespace dieflow
         const double distance = std::abs((position - f.vertices[0]) * f.normal);
         // Outside the facet by at most the tolerance, too (a node at a
         // facet's edge, written with fewer digits).
-        const double scale  = std::sqrt(facet_measure<dim>(f.vertices));
-        const double inside = insideness<dim>(f.vertices, position);
-        if (distance > tolerance || inside * scale < -tolerance)
+        const double measure = facet_measure<dim>(f.vertices);
+        const double inside  = insideness<dim>(f.vertices, position);
+        if (distance > tolerance || inside * std::sqrt(measure) < -tolerance)
           continue;
         const Tensor<1, dim> oriented = alignment > 0 ? f.normal : -f.normal;
-        mean_normal += facet_measure<dim>(f.vertices) * oriented;
+        mean_normal += measure * oriented;
         if (inside > best_insideness)
           {
             best_insideness = inside;

@@ -343,6 +343,35 @@ namespace dieflow
       }
     };
 
+    /// The three blocks of a die2d-like channel, along the axis.
+    enum class Block
+    {
+      container,
+      die,
+      land
+    };
+
+    /// The grading along a block: the container towards the die entry C,
+    /// the die face towards C and the die exit D, the land towards D.
+    Grading
+    along(const Block block, const double q)
+    {
+      return {q, block != Block::container, block != Block::land};
+    }
+
+    /// Where slice @p s (0 .. n_c + n_d + n_l) of a sweep through the three
+    /// blocks lies: its block and its graded fraction along it (a block of
+    /// no slices, a plain cone's container, is skipped).
+    std::pair<Block, double>
+    swept_position(const double s, const double n_c, const double n_d, const double n_l, const double q)
+    {
+      if (n_c > 0 && s <= n_c)
+        return {Block::container, along(Block::container, q)(s / n_c)};
+      if (s <= n_c + n_d)
+        return {Block::die, along(Block::die, q)((s - n_c) / n_d)};
+      return {Block::land, along(Block::land, q)((s - n_c - n_d) / n_l)};
+    }
+
     /// A block of nx x ny cells filling the quadrilateral p00-p10-p01-p11
     /// (bilinear map of the unit square, its coordinates graded).
     void
@@ -472,9 +501,10 @@ namespace dieflow
             axial_layout(g, h_i, h_o, 0.5 * g.die_angle_degrees * dealii::numbers::PI / 180., ny);
           const double  q = g.grading_exponent;
           const Grading to_wall{q, false, true};
-          make_block(A, Point<2>(l.x_1, 0), B, C, l.container_cells, ny, blocks[0], {q, false, true}, to_wall);
-          make_block(Point<2>(l.x_1, 0), Point<2>(l.x_2, 0), C, D, l.die_cells, ny, blocks[1], {q, true, true}, to_wall);
-          make_block(Point<2>(l.x_2, 0), F, D, E, l.land_cells, ny, blocks[2], {q, true, false}, to_wall);
+          make_block(A, Point<2>(l.x_1, 0), B, C, l.container_cells, ny, blocks[0], along(Block::container, q), to_wall);
+          make_block(Point<2>(l.x_1, 0), Point<2>(l.x_2, 0), C, D, l.die_cells, ny, blocks[1], along(Block::die, q),
+                     to_wall);
+          make_block(Point<2>(l.x_2, 0), F, D, E, l.land_cells, ny, blocks[2], along(Block::land, q), to_wall);
         }
       else
         {
@@ -571,26 +601,7 @@ namespace dieflow
     void
     read_gmsh(const std::string &file_name, const std::string &base_directory, Triangulation<dim> &triangulation)
     {
-      std::filesystem::path path(file_name);
-      if (path.is_relative() && !base_directory.empty())
-        path = std::filesystem::path(base_directory) / path;
-      std::ifstream in(path);
-      require(static_cast<bool>(in),
-              "Mesh/Gmsh file",
-              "cannot open '" + file_name + "' (missing or unreadable)");
-      in.peek();
-      require(!in.eof(), "Mesh/Gmsh file", "'" + file_name + "' is empty");
-      dealii::GridIn<dim> grid_in;
-      grid_in.attach_triangulation(triangulation);
-      try
-        {
-          grid_in.read_msh(in);
-        }
-      catch (const std::exception &exc)
-        {
-          throw InputError("Mesh/Gmsh file: cannot read '" + file_name +
-                           "' as a Gmsh mesh: " + one_line_message(exc));
-        }
+      read_msh_file(file_name, base_directory, "Mesh/Gmsh file", "a Gmsh mesh", triangulation);
       require(triangulation.n_active_cells() > 0,
               "Mesh/Gmsh file",
               "'" + file_name + "' contains no cells of dimension " +
@@ -672,25 +683,20 @@ namespace dieflow
       // rho, a monotone radial map that keeps the circle), each block along
       // the axis towards the die corners, as in the die2d section.
       const double  q = g.grading_exponent;
-      const Grading to_wall{q, false, true}, container{q, false, true}, die{q, true, true}, land{q, true, false};
+      const Grading to_wall{q, false, true};
       dealii::GridTools::transform(
         [&](const Point<3> &p) {
-          const double s = p[2];
-          const double r = std::hypot(p[0], p[1]);
+          const double r   = std::hypot(p[0], p[1]);
           const double rho = std::min(1., to_wall(std::min(1., r)));
           const double y = r > 0 ? p[0] * rho / r : 0., z = r > 0 ? p[1] * rho / r : 0.;
-          // The block and the fraction along it, graded.
-          const Grading &block = (n_c > 0 && s <= n_c) ? container : s <= n_c + n_d ? die : land;
-          const double   t     = block((n_c > 0 && s <= n_c) ? s / n_c :
-                                   s <= n_c + n_d        ? (s - n_c) / n_d :
-                                                           (s - n_c - n_d) / n_l);
-          double       x, R;
-          if (&block == &container)
+          const auto [block, t] = swept_position(p[2], n_c, n_d, n_l, q);
+          double x, R;
+          if (block == Block::container)
             {
               x = -g.container_length + t * (x_C(rho) + g.container_length);
               R = R_i;
             }
-          else if (&block == &die)
+          else if (block == Block::die)
             {
               x = x_C(rho) + t * (x_D(rho) - x_C(rho));
               R = R_i + t * (R_o - R_i);
@@ -778,23 +784,21 @@ namespace dieflow
                                                         /*colorize=*/true);
       const double  x_end = x_d + g.land_length;
       const double  q     = g.grading_exponent;
-      const Grading to_wall{q, false, true}, container{q, false, true}, die{q, true, true}, land{q, true, false};
+      const Grading to_wall{q, false, true};
       dealii::GridTools::transform(
         [&](const Point<3> &p) {
-          const double   s     = p[0];
-          const Grading &block = s <= n_c ? container : s <= n_c + n_d ? die : land;
-          const double   f     = block(s <= n_c ? s / n_c : s <= n_c + n_d ? (s - n_c) / n_d : (s - n_c - n_d) / n_l);
-          const double   xi = to_wall(p[1]), eta = to_wall(p[2]);
-          const double   x_C = block_end(xi, eta, in_y.x_1, in_z.x_1, 0.);
-          const double   x_D = block_end(xi, eta, in_y.x_2, in_z.x_2, x_d);
+          const auto [block, f] = swept_position(p[0], n_c, n_d, n_l, q);
+          const double xi = to_wall(p[1]), eta = to_wall(p[2]);
+          const double x_C = block_end(xi, eta, in_y.x_1, in_z.x_1, 0.);
+          const double x_D = block_end(xi, eta, in_y.x_2, in_z.x_2, x_d);
           // x, and t the fraction of the die's reduction.
           double x, t;
-          if (&block == &container)
+          if (block == Block::container)
             {
               x = -g.container_length + f * (x_C + g.container_length);
               t = 0;
             }
-          else if (&block == &die)
+          else if (block == Block::die)
             {
               x = x_C + f * (x_D - x_C);
               t = f;
@@ -833,6 +837,35 @@ namespace dieflow
           }
     }
   } // namespace
+
+
+
+  template <int dim, int spacedim>
+  void
+  read_msh_file(const std::string &                   file_name,
+                const std::string &                   base_directory,
+                const std::string &                   entry,
+                const std::string &                   what,
+                dealii::Triangulation<dim, spacedim> &triangulation)
+  {
+    std::filesystem::path path(file_name);
+    if (path.is_relative() && !base_directory.empty())
+      path = std::filesystem::path(base_directory) / path;
+    std::ifstream in(path);
+    require(static_cast<bool>(in), entry, "cannot open '" + file_name + "' (missing or unreadable)");
+    in.peek();
+    require(!in.eof(), entry, "'" + file_name + "' is empty");
+    dealii::GridIn<dim, spacedim> grid_in;
+    grid_in.attach_triangulation(triangulation);
+    try
+      {
+        grid_in.read_msh(in);
+      }
+    catch (const std::exception &exc)
+      {
+        throw InputError(entry + ": cannot read '" + file_name + "' as " + what + ": " + one_line_message(exc));
+      }
+  }
 
 
 
@@ -951,4 +984,16 @@ namespace dieflow
   check_boundary_ids<3>(const Triangulation<3> &, const std::map<BoundaryId, std::string> &);
   template void
   check_axisymmetric_mesh<3>(const Triangulation<3> &, const std::set<BoundaryId> &);
+  template void
+  read_msh_file<2, 2>(const std::string &, const std::string &, const std::string &, const std::string &,
+                      dealii::Triangulation<2, 2> &);
+  template void
+  read_msh_file<3, 3>(const std::string &, const std::string &, const std::string &, const std::string &,
+                      dealii::Triangulation<3, 3> &);
+  template void
+  read_msh_file<1, 2>(const std::string &, const std::string &, const std::string &, const std::string &,
+                      dealii::Triangulation<1, 2> &);
+  template void
+  read_msh_file<2, 3>(const std::string &, const std::string &, const std::string &, const std::string &,
+                      dealii::Triangulation<2, 3> &);
 } // namespace dieflow

@@ -110,6 +110,21 @@ namespace dieflow
     parse_parameters(ParameterHandler &prm);
   };
 
+  /**
+   * Reads the Gmsh file @p file_name (format 2 or 4; a relative path is
+   * relative to @p base_directory) into @p triangulation: a missing, empty
+   * or unreadable file is an InputError of the deck entry @p entry, which
+   * calls the file @p what ("a Gmsh mesh"). Meshes and die surfaces
+   * (dim = spacedim - 1) alike.
+   */
+  template <int dim, int spacedim>
+  void
+  read_msh_file(const std::string &                   file_name,
+                const std::string &                   base_directory,
+                const std::string &                   entry,
+                const std::string &                   what,
+                dealii::Triangulation<dim, spacedim> &triangulation);
+
   /// Builds the coarse mesh the deck asks for and refines it globally.
   template <int dim>
   void
