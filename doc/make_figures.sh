@@ -107,3 +107,36 @@ plot '$r/die-surface-6.dat' using 1:2:(\$13) with points pt 5 ps 1.4 palette not
 unset multiplot
 GP
 echo "wrote doc/images/rectbar3d-contact.png"
+
+# Forming in time (doc/incremental.md): the load-stroke curve of
+# parameters/upsetting-incremental.prm against the slab estimate, and the
+# barrelled mesh at 50 % reduction.
+sed -e "s|^set Output directory.*|set Output directory = $work/upsetting|" \
+    -e "s|^set Write VTU .*|set Write VTU = false\nset Write gnuplot = true|" \
+    parameters/upsetting-incremental.prm > "$work/upsetting.prm"
+$program "$work/upsetting.prm" > /dev/null
+gnuplot <<GP
+set terminal pngcairo size 1300,520 font "sans,11"
+set output 'doc/images/upsetting-load-stroke.png'
+set multiplot layout 1,2
+set title 'platen force against stroke (parameters/upsetting-incremental.prm)'
+set xlabel 'height reduction (%)'
+set ylabel 'platen force F (kN)'
+set key top left
+# Slab estimate: F = sigma_0 pi a^2 (1 + 2 mu a / (3 h)), volume kept (a^2 h = 100 x 10),
+# sigma_0 = K (V/h)^m with V = 10 mm/s closing speed, h = 10 - 10 t.
+h(s) = 10 - 2*s
+slab(s) = (10/h(s))**0.05 * pi * 1000/h(s) * (1 + 2*0.2*sqrt(1000/h(s))/(3*h(s))) / 1000
+plot '$work/upsetting/load-stroke.txt' using (100*\$3/5):(\$4/1000) with linespoints pt 7 ps 0.5 title 'dieflow, Coulomb mu = 0.2', \
+     [0:2.5] '+' using (100*\$1/5):(slab(\$1)) with lines dt 2 lw 2 title 'slab estimate 1 + 2 mu a / (3 h)'
+set title 'mesh at 50 % reduction (platen frame: platen at the top, x = 5 mm)'
+set xlabel 'r (mm)'
+set ylabel 'x (mm)'
+set view map
+set size ratio -1
+unset key
+unset colorbox
+splot '$work/upsetting/solution-50.gnuplot' using 2:1:(0) with lines lc rgb '#404040'
+unset multiplot
+GP
+echo "wrote doc/images/upsetting-load-stroke.png"

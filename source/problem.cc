@@ -62,6 +62,7 @@ namespace dieflow
     NonlinearSolver::declare_parameters(prm);
     LinearSolver::declare_parameters(prm);
     RefinementParameters::declare_parameters(prm);
+    TimeStepping::declare_parameters(prm);
     ContactParameters::declare_parameters(prm);
     prm.enter_subsection("Refinement");
     prm.declare_entry("Probe point",
@@ -117,6 +118,18 @@ namespace dieflow
     nonlinear_solver.parse_parameters(prm);
     linear_solver.parse_parameters(prm);
     refinement.parse_parameters(prm);
+    time_stepping.parse_parameters(prm);
+    if (time_stepping.incremental)
+      {
+        require(refinement.cycles == 1,
+                "Refinement/Cycles",
+                "is " + std::to_string(refinement.cycles) +
+                  "; with Problem = incremental the steps take the place of the cycles: set 1 "
+                  "(refine the starting mesh with Mesh/Global refinements)");
+        require(refinement.target_error == 0,
+                "Refinement/Target error",
+                "applies to refinement cycles; with Problem = incremental leave it at 0");
+      }
     prm.enter_subsection("Refinement");
     const std::string probe_text = prm.get("Probe point");
     prm.leave_subsection();
@@ -178,7 +191,13 @@ namespace dieflow
                   "'set Die ids =' for no contact)");
       }
     make_mesh(mesh_parameters, triangulation);
-    check_boundary_ids(triangulation, assigned);
+    // In time, a die given as a surface may have no face of the metal on it
+    // yet: the metal comes onto it.
+    auto in_mesh = assigned;
+    if (time_stepping.incremental)
+      for (const auto &[id, file] : contact_parameters.die_surface_files)
+        in_mesh.erase(id);
+    check_boundary_ids(triangulation, in_mesh);
     if (coordinates.axisymmetric())
       check_axisymmetric_mesh(triangulation, boundary_conditions.symmetry_ids);
     if (mesh_parameters.corner_refinements > 0)
@@ -897,10 +916,11 @@ namespace dieflow
 
     summary.contact_assemblies = contact_assemblies;
     summary.friction_terms     = friction_terms;
-    std::map<std::string, Vector<double>> nodal_fields;
+    std::map<std::string, Vector<double>> nodal_fields, cell_fields;
     // The pressure is recovered once, for the degree-1 die profiles and the
     // fields.
-    const bool     write_fields_now = run_parameters.write_vtu || run_parameters.write_gnuplot;
+    const bool     write_fields_now = (run_parameters.write_vtu || run_parameters.write_gnuplot) &&
+                                  (!time_stepping.incremental || time_stepping.writes_output(summary.cycle));
     const bool     recover_profiles = !contact.empty() && fe.degree == 1;
     Vector<double> pressure;
     if (recover_profiles || write_fields_now)
@@ -952,8 +972,10 @@ namespace dieflow
                    material,
                    pressure,
                    nodal_fields,
+                   cell_fields,
                    run_parameters.output_directory,
                    summary.cycle,
+                   time_stepping.incremental ? time_stepping.time(summary.cycle) : summary.cycle,
                    run_parameters.write_vtu,
                    run_parameters.write_gnuplot,
                    pvd_records);
@@ -1265,6 +1287,103 @@ namespace dieflow
 
 
   template <int dim>
+  void
+  DieFlowProblem<dim>::advance_configuration(const unsigned int n)
+  {
+    dealii::TimerOutput::Scope scope(timer, "mesh motion");
+    // Adams-Bashforth 2 assumes v smooth in time; when faces came onto a die
+    // or left it with the last move, v_{n-1} belongs to another contact
+    // state: restart with forward Euler.
+    const bool contact_changed = last_gap_update.entered + last_gap_update.left > 0;
+    const auto [a, b]          = time_stepping.weights(n, contact_changed);
+    Vector<double> displacement = velocity;
+    displacement *= a;
+    // weights() is forward Euler's on the first step, where there is no v_{n-1}.
+    if (b != 0)
+      displacement.add(b, previous_velocity);
+    previous_velocity = velocity;
+    const std::vector<dealii::Point<dim>> old_vertices = triangulation.get_vertices();
+    std::vector<bool>                     in_contact(triangulation.n_vertices(), false);
+    if (!contact.empty())
+      {
+        const auto status = contact.vertex_status(dof_handler);
+        for (unsigned int i = 0; i < status.size(); ++i)
+          in_contact[i] = status[i] > static_cast<double>(ContactStatus::separated);
+      }
+    move_vertices(dof_handler, displacement, triangulation);
+    fixed_walls.keep(triangulation);
+    last_gap_update = gaps.update(old_vertices, in_contact, triangulation);
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::ram_stroke() const
+  {
+    if (ram_start.empty())
+      return 0;
+    const auto &vertices = triangulation.get_vertices();
+    double      sum      = 0;
+    for (const auto &[index, start] : ram_start)
+      sum += vertices[index][0] - start[0];
+    return std::abs(sum) / ram_start.size();
+  }
+
+
+
+  template <int dim>
+  StepRecord
+  DieFlowProblem<dim>::step_record(const unsigned int n) const
+  {
+    StepRecord record;
+    record.step   = n;
+    record.time   = time_stepping.time(n);
+    record.stroke = ram_stroke();
+    record.volume = domain_volume(coordinates, triangulation);
+    record.volume_change            = initial_volume > 0 ? record.volume / initial_volume - 1 : 0;
+    record.smallest_scaled_jacobian = smallest_scaled_jacobian(triangulation);
+    record.faces_entered            = last_gap_update.entered;
+    record.faces_left               = last_gap_update.left;
+    record.penetration              = last_gap_update.penetration;
+    return record;
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::write_load_stroke(const RunSummary &summary) const
+  {
+    AtomicFile    file(run_parameters.output_directory + "/load-stroke.txt");
+    std::ostream &out = file.stream();
+    out << "# Problem = incremental: one row per step (summary.json has the same per cycle).\n"
+        << "# stroke: mean x displacement of the vertices of boundary part " << goal_part()
+        << " (mm); forces as in summary.json (plane strain N/mm, else N);\n"
+        << "# volume_change: (V - V_0) / V_0; min_scaled_jacobian: 1 for rectangles, <= 0 inverted;\n"
+        << "# faces_entered / faces_left: boundary faces that came onto a die / left it with the move to this step;\n"
+        << "# penetration: the deepest a free node went through a die in that move, before it was put back (mm).\n"
+        << "# step time stroke";
+    const auto &names = summary.cycles.front().quantities;
+    for (const auto &[name, value] : names)
+      out << ' ' << name;
+    out << " volume_change min_scaled_jacobian faces_entered faces_left penetration converged\n";
+    for (const auto &cycle : summary.cycles)
+      {
+        const StepRecord &step = *cycle.step;
+        out << step.step << ' ' << std::setprecision(8) << step.time << ' ' << step.stroke;
+        for (const auto &[name, value] : cycle.quantities)
+          out << ' ' << value;
+        out << ' ' << std::setprecision(4) << step.volume_change << ' ' << step.smallest_scaled_jacobian << ' '
+            << step.faces_entered << ' ' << step.faces_left << ' ' << step.penetration << ' '
+            << (cycle.converged ? 1 : 0) << '\n';
+      }
+    file.commit();
+  }
+
+
+
+  template <int dim>
   RunSummary
   DieFlowProblem<dim>::run()
   {
@@ -1272,26 +1391,48 @@ namespace dieflow
     RunSummary    summary;
     summary.velocity_degree = fe.degree;
     summary.geometry        = dim == 3 ? "3d" : geometry_name(coordinates.kind());
+    summary.problem         = time_stepping.incremental ? "incremental" : "steady";
     const std::string summary_file = run_parameters.output_directory + "/summary.json";
+    // Steady: the refinement cycles. Incremental: a solve at t_0, ..., t_N.
+    const bool         incremental = time_stepping.incremental;
+    const std::string  unit        = incremental ? "step " : "cycle ";
+    const unsigned int n_solves    = incremental ? time_stepping.n_steps() + 1 : refinement.cycles;
+    if (incremental)
+      {
+        initial_volume = domain_volume(coordinates, triangulation);
+        for (const auto &cell : triangulation.active_cell_iterators())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == goal_part())
+              for (const unsigned int v : face->vertex_indices())
+                ram_start.emplace(face->vertex_index(v), face->vertex(v));
+        fixed_walls.initialize(triangulation, boundary_conditions.wall_ids());
+        if (!contact.empty())
+          gaps.initialize(triangulation, contact_parameters.die_ids, die_surfaces, boundary_conditions.traction_free_ids);
+      }
 
-    for (unsigned int cycle = 0; cycle < refinement.cycles; ++cycle)
+    for (unsigned int cycle = 0; cycle < n_solves; ++cycle)
       {
         dealii::Timer cycle_timer;
         if (cycle > 0 && interrupt::requested())
           {
             summary.interrupted = true;
-            summary.failure     = "stopped by " + interrupt::signal_name() + " before cycle " + std::to_string(cycle);
-            log << "  INTERRUPTED before cycle " << cycle << std::endl;
+            summary.failure     = "stopped by " + interrupt::signal_name() + " before " + unit + std::to_string(cycle);
+            log << "  INTERRUPTED before " << unit << cycle << std::endl;
             break;
           }
         if (cycle > 0)
           {
-            refine_mesh();
+            if (incremental)
+              advance_configuration(cycle - 1);
+            else
+              refine_mesh();
             states_from_previous_mesh = true;
           }
         setup_system();
-        log << "cycle " << cycle << ": " << triangulation.n_active_cells() << " cells, "
-            << dof_handler.n_dofs() << " dofs" << std::endl;
+        log << unit << cycle << ": ";
+        if (incremental)
+          log << "t = " << time_stepping.time(cycle) << " s, ";
+        log << triangulation.n_active_cells() << " cells, " << dof_handler.n_dofs() << " dofs" << std::endl;
 
         CycleSummary cycle_summary;
         cycle_summary.cycle = cycle;
@@ -1327,22 +1468,29 @@ namespace dieflow
             cycle_summary.start_distance = start.l2_norm() / velocity.l2_norm();
           }
 
+        if (incremental)
+          cycle_summary.step = step_record(cycle);
         postprocess(cycle_summary);
         if (result.converged)
           guard_mass_balance(cycle_summary, result, summary);
         if (result.converged)
           guard_contact(cycle_summary, result);
         cycle_summary.wall_time = cycle_timer.wall_time();
-        study.add(cycle_summary);
-        if (cycle > 0)
-          for (const auto &[name, e] : study.extrapolations())
-            cycle_summary.estimated_errors.emplace_back(name, e.estimate);
+        if (!incremental)
+          {
+            study.add(cycle_summary);
+            if (cycle > 0)
+              for (const auto &[name, e] : study.extrapolations())
+                cycle_summary.estimated_errors.emplace_back(name, e.estimate);
+          }
         summary.cycles.push_back(cycle_summary);
+        if (incremental)
+          write_load_stroke(summary);
 
         if (!result.converged)
           {
             summary.interrupted = result.interrupted;
-            summary.failure = "cycle " + std::to_string(cycle) + ": " + result.failure;
+            summary.failure = unit + std::to_string(cycle) + ": " + result.failure;
             log << "  NOT CONVERGED: " << result.failure << std::endl;
             break;
           }
@@ -1372,13 +1520,14 @@ namespace dieflow
         q.last                = named_value(summary.cycles.back().quantities, name);
         summary.extrapolated.push_back(q);
       }
-    {
-      AtomicFile table(run_parameters.output_directory + "/study.txt");
-      study.write(table.stream());
-      table.commit();
-      if (refinement.cycles > 1)
-        study.write(log);
-    }
+    if (!incremental)
+      {
+        AtomicFile table(run_parameters.output_directory + "/study.txt");
+        study.write(table.stream());
+        table.commit();
+        if (refinement.cycles > 1)
+          study.write(log);
+      }
     summary.stage_wall_time = timer.get_summary_data(dealii::TimerOutput::total_wall_time);
     dealii::Utilities::System::MemoryStats memory;
     dealii::Utilities::System::get_memory_stats(memory);

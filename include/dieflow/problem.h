@@ -17,6 +17,8 @@
 #include <dieflow/postprocess/summary.h>
 #include <dieflow/mesh/wall_nodes.h>
 #include <dieflow/contact/die_surface.h>
+#include <dieflow/incremental/contact_gaps.h>
+#include <dieflow/incremental/time_stepping.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/timer.h>
@@ -41,10 +43,12 @@ namespace dieflow
   };
 
   /**
-   * The steady die-flow problem: owns the mesh, the dofs and the pieces of
-   * the deck, and runs the refinement cycles:
+   * The die-flow problem: owns the mesh, the dofs and the pieces of the
+   * deck. Problem = steady runs the refinement cycles:
    *   mesh -> dofs and constraints -> [assemble -> solve -> update state]
-   *   until converged -> postprocess -> refine -> next cycle.
+   *   until converged -> postprocess -> refine -> next cycle;
+   * Problem = incremental runs the time steps the same way, with the mesh
+   * moved by the step's velocity (TimeStepping) in place of the refinement.
    */
   template <int dim>
   class DieFlowProblem : public NonlinearSystem
@@ -195,6 +199,18 @@ namespace dieflow
     postprocess(CycleSummary &summary);
     void
     refine_mesh();
+    /// Moves the mesh from t_n to t_{n+1} with the integrator of TimeStepping.
+    void
+    advance_configuration(const unsigned int n);
+    /// Time, stroke, volume and cell shape of the current configuration (step @p n).
+    StepRecord
+    step_record(const unsigned int n) const;
+    /// Mean displacement along x of the vertices of goal_part() since t = 0.
+    double
+    ram_stroke() const;
+    /// load-stroke.txt: a row per step of @p summary (rewritten each step).
+    void
+    write_load_stroke(const RunSummary &summary) const;
     double
     relative_residual(const Vector<double> &minus_residual) const;
     /// eps || |J| |v| || over the free rows, relative to the reactions: the
@@ -247,6 +263,7 @@ namespace dieflow
     NonlinearSolver                            nonlinear_solver;
     LinearSolver                               linear_solver;
     RefinementParameters                       refinement;
+    TimeStepping                               time_stepping;
     ContactParameters                          contact_parameters;
     ContactSet<dim>                            contact;
     /// Dies given on their own (Contact/Die surfaces), by boundary id.
@@ -298,6 +315,15 @@ namespace dieflow
     Vector<double>               transferred_cell_stress;
     double                       last_divergence_ratio = 0;
     Vector<double>               velocity;
+    /// v_{n-1} at the same nodes, for Adams-Bashforth 2 (empty before the first step).
+    Vector<double>               previous_velocity;
+    /// The volume at t = 0, and the ram part's vertices with their start positions.
+    double                                   initial_volume = 0;
+    std::map<unsigned int, dealii::Point<dim>> ram_start;
+    /// The dies' surfaces for the free surface's gaps, and the last step's update.
+    ContactGaps<dim>                         gaps;
+    FixedWalls<dim>                          fixed_walls;
+    GapUpdate                                last_gap_update;
     Vector<double>               system_rhs;
     Vector<double>               raw_residual;
 

@@ -173,6 +173,57 @@ namespace dieflow
 
 
   template <int dim>
+  std::optional<typename DieSurface<dim>::Projection>
+  DieSurface<dim>::project(const Point<dim> &x, const double radius, const double tolerance) const
+  {
+    dealii::BoundingBox<dim> around(std::make_pair(x, x));
+    around.extend(radius);
+    std::vector<Box> hits;
+    tree.query(boost::geometry::index::intersects(around), std::back_inserter(hits));
+    std::optional<Projection> nearest;
+    for (const auto &[box, index] : hits)
+      {
+        const Facet &f        = facets[index];
+        const double distance = (x - f.vertices[0]) * f.normal;
+        if (std::abs(distance) > radius ||
+            insideness<dim>(f.vertices, x) * std::sqrt(facet_measure<dim>(f.vertices)) < -tolerance)
+          continue;
+        if (!nearest || std::abs(distance) < nearest->distance)
+          nearest = Projection{x - distance * f.normal, std::abs(distance)};
+      }
+    return nearest;
+  }
+
+
+
+  template <int dim>
+  std::optional<typename DieSurface<dim>::Projection>
+  DieSurface<dim>::crossing(const Point<dim> &from, const Point<dim> &to, const double tolerance) const
+  {
+    dealii::BoundingBox<dim> path(std::vector<Point<dim>>{from, to});
+    path.extend(tolerance);
+    std::vector<Box> hits;
+    tree.query(boost::geometry::index::intersects(path), std::back_inserter(hits));
+    std::optional<Projection> deepest;
+    for (const auto &[box, index] : hits)
+      {
+        const Facet &f      = facets[index];
+        const double before = (from - f.vertices[0]) * f.normal;
+        const double after  = (to - f.vertices[0]) * f.normal;
+        const bool   went_through = before * after < 0 && std::abs(before) > tolerance;
+        if (!(went_through || std::abs(after) <= tolerance) ||
+            insideness<dim>(f.vertices, to) * std::sqrt(facet_measure<dim>(f.vertices)) < -tolerance)
+          continue;
+        const double depth = went_through ? std::abs(after) : 0.;
+        if (!deepest || depth > deepest->distance)
+          deepest = Projection{to - after * f.normal, depth};
+      }
+    return deepest;
+  }
+
+
+
+  template <int dim>
   void
   attach_die_surfaces(const std::map<BoundaryId, DieSurface<dim>> &surfaces,
                       const double                                 corner_angle_degrees,

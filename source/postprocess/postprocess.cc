@@ -687,8 +687,10 @@ namespace dieflow
             const Material &                                material,
             const Vector<double> &                          p_cell,
             const std::map<std::string, Vector<double>> &   nodal_fields,
+            const std::map<std::string, Vector<double>> &   cell_fields,
             const std::string &                             directory,
             const unsigned int                              cycle,
+            const double                                    record_time,
             const bool                                      vtu,
             const bool                                      gnuplot,
             std::vector<std::pair<double, std::string>> &   pvd_records)
@@ -723,6 +725,8 @@ namespace dieflow
         data_out.add_data_vector(scalar_dofs, extra.back(), name);
       }
     data_out.add_data_vector(p_mean, "cell_pressure", dealii::DataOut<dim>::type_cell_data);
+    for (const auto &[name, values] : cell_fields)
+      data_out.add_data_vector(values, name, dealii::DataOut<dim>::type_cell_data);
     // Degree 2: each cell subdivided, so the output shows the curved field.
     data_out.build_patches(dof_handler.get_fe().degree);
 
@@ -731,7 +735,7 @@ namespace dieflow
       {
         std::ofstream out(directory + "/" + stem + ".vtu");
         data_out.write_vtu(out);
-        pvd_records.emplace_back(cycle, stem + ".vtu");
+        pvd_records.emplace_back(record_time, stem + ".vtu");
         AtomicFile pvd(directory + "/solution.pvd");
         dealii::DataOutBase::write_pvd_record(pvd.stream(), pvd_records);
         pvd.commit();
@@ -761,8 +765,8 @@ namespace dieflow
   cell_divergence<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
   template void
   write_fields<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &,
-                  const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
-                  const bool, const bool, std::vector<std::pair<double, std::string>> &);
+                  const std::map<std::string, Vector<double>> &, const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
+                  const double, const bool, const bool, std::vector<std::pair<double, std::string>> &);
   template std::map<BoundaryId, double>
   boundary_fluxes<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
   template std::map<BoundaryId, double>
@@ -781,6 +785,6 @@ namespace dieflow
   cell_divergence<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
   template void
   write_fields<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const Material &, const Vector<double> &,
-                  const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
-                  const bool, const bool, std::vector<std::pair<double, std::string>> &);
+                  const std::map<std::string, Vector<double>> &, const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
+                  const double, const bool, const bool, std::vector<std::pair<double, std::string>> &);
 } // namespace dieflow

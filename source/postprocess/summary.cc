@@ -132,7 +132,8 @@ namespace dieflow
         << "  \"interrupted\": " << (summary.interrupted ? "true" : "false") << ",\n"
         << "  \"wall_time\": " << number(summary.wall_time) << ",\n"
         << "  \"velocity_degree\": " << summary.velocity_degree << ",\n"
-        << "  \"geometry\": \"" << summary.geometry << "\",\n";
+        << "  \"geometry\": \"" << summary.geometry << "\",\n"
+        << "  \"problem\": \"" << summary.problem << "\",\n";
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
         << "  \"threads\": " << summary.threads << ",\n"
         << "  \"stage_wall_time\": {";
@@ -234,8 +235,15 @@ namespace dieflow
             << "      \"residual_history\": " << vector(residuals) << ",\n"
             << "      \"active_set_changes\": " << vector(normal_changes) << ",\n"
             << "      \"stick_slip_changes\": " << vector(tangential_changes) << ",\n"
-            << "      \"wall_time\": " << number(s.wall_time) << "\n"
-            << "    }";
+            << "      \"wall_time\": " << number(s.wall_time);
+        if (s.step)
+          out << ",\n      \"step\": {\"step\": " << s.step->step << ", \"time\": " << number(s.step->time)
+              << ", \"stroke\": " << number(s.step->stroke) << ", \"volume\": " << number(s.step->volume)
+              << ", \"volume_change\": " << number(s.step->volume_change)
+              << ", \"smallest_scaled_jacobian\": " << number(s.step->smallest_scaled_jacobian)
+              << ", \"faces_entered\": " << s.step->faces_entered << ", \"faces_left\": " << s.step->faces_left
+              << ", \"penetration\": " << number(s.step->penetration) << "}";
+        out << "\n    }";
       }
     out << "\n  ]\n}\n";
     file.commit();

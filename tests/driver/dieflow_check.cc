@@ -96,6 +96,19 @@ namespace
         cycle["h1_error"]           = s.velocity_h1_error.value_or(nan);
         cycle["newton_order"]       = newton_order(s);
         cycle["l2_rate"] = cycle["h1_rate"] = nan;
+        // Problem = incremental: the step's time, stroke, volume and shape.
+        cycle["time"] = cycle["stroke"] = cycle["volume"] = cycle["step_volume_change"] = cycle["min_scaled_jacobian"] = nan;
+        if (s.step)
+          {
+            cycle["time"]                = s.step->time;
+            cycle["stroke"]              = s.step->stroke;
+            cycle["volume"]              = s.step->volume;
+            cycle["step_volume_change"] = s.step->volume_change;
+            cycle["min_scaled_jacobian"] = s.step->smallest_scaled_jacobian;
+            cycle["faces_entered"]       = s.step->faces_entered;
+            cycle["faces_left"]          = s.step->faces_left;
+            cycle["penetration"]         = s.step->penetration;
+          }
         if (c > 0 && s.velocity_l2_error)
           {
             const CycleSummary &p = summary.cycles[c - 1];
@@ -112,6 +125,8 @@ namespace
           }
         for (const auto &[id, value] : s.flux)
           cycle["flux_" + std::to_string(id)] = value;
+        for (const auto &[id, value] : s.boundary_area)
+          cycle["area_" + std::to_string(id)] = value;
         for (const auto &[id, value] : s.die_normal_force)
           cycle["die_normal_" + std::to_string(id)] = value;
         for (const auto &[id, value] : s.die_friction_force)

@@ -77,6 +77,31 @@ namespace dieflow
     find(const Point<dim> &position, const Tensor<1, dim> &metal_normal, const double tolerance,
          const double cos_corner) const;
 
+    /// A point of the surface and how far it is from the point it stands for.
+    struct Projection
+    {
+      Point<dim> point;
+      double     distance;
+    };
+
+    /**
+     * The nearest projection of @p x onto the plane of a facet that holds
+     * it (outside by at most @p tolerance), among the facets within
+     * @p radius of @p x; none if there is none.
+     */
+    std::optional<Projection>
+    project(const Point<dim> &x, const double radius, const double tolerance) const;
+
+    /**
+     * Whether a node moving straight from @p from to @p to went through a
+     * facet (its distance to the plane changed sign, or it ended within
+     * @p tolerance of it) and ended over it: then the end's projection onto
+     * that plane and the depth it went through (the largest such facet's).
+     * Orientation-free, so that a die needs no inside.
+     */
+    std::optional<Projection>
+    crossing(const Point<dim> &from, const Point<dim> &to, const double tolerance) const;
+
     unsigned int
     n_facets() const
     {

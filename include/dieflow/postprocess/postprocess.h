@@ -112,7 +112,9 @@ namespace dieflow
    * cell_pressure() coefficients, and the area-weighted average of the
    * cells' values at each vertex, which filters the checkerboard mode of
    * Q1-P0), equivalent strain rate and stress, and viscosity as
-   * VTU (appended to the PVD index of the run) and/or gnuplot.
+   * VTU (appended to the PVD index of the run at @p record_time: the cycle,
+   * or the time of an incremental step) and/or gnuplot; @p nodal_fields
+   * per vertex, @p cell_fields per active cell (the equivalent strain).
    */
   template <int dim>
   void
@@ -122,8 +124,10 @@ namespace dieflow
             const Material &                                      material,
             const Vector<double> &                                pressure,
             const std::map<std::string, Vector<double>> &        nodal_fields,
+            const std::map<std::string, Vector<double>> &        cell_fields,
             const std::string &                                   directory,
             const unsigned int                                    cycle,
+            const double                                          record_time,
             const bool                                            vtu,
             const bool                                            gnuplot,
             std::vector<std::pair<double, std::string>> &         pvd_records);

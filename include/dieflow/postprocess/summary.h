@@ -54,6 +54,29 @@ namespace dieflow
     double      estimate     = 0;
   };
 
+  /// What a step of Problem = incremental adds to its cycle's report.
+  struct StepRecord
+  {
+    unsigned int step = 0;
+    /// t_n in s.
+    double time = 0;
+    /// How far the ram has travelled since t = 0: the mean displacement
+    /// along x of the vertices of the first prescribed-velocity part (mm).
+    double stroke = 0;
+    /// The volume of the mesh (plane strain: mm^2 per mm of depth), and
+    /// (V - V_0) / V_0.
+    double volume        = 0;
+    double volume_change = 0;
+    /// smallest_scaled_jacobian() of the mesh (1: rectangles; time_stepping.h).
+    double smallest_scaled_jacobian = 1;
+    /// The move to this configuration (contact_gaps.h): boundary faces that
+    /// came onto a die and left it, and the deepest a free node went
+    /// through a die before it was put back on it (mm).
+    unsigned int faces_entered = 0;
+    unsigned int faces_left    = 0;
+    double       penetration   = 0;
+  };
+
   /// What one refinement cycle reports (interface.md, summary.json).
   struct CycleSummary
   {
@@ -135,6 +158,8 @@ namespace dieflow
     double mean_viscosity    = 0;
     double wall_time         = 0;
     std::vector<IterationRecord> history;
+    /// Problem = incremental: the step this solve belongs to.
+    std::optional<StepRecord> step;
   };
 
   /// The value named @p name among (name, value) pairs such as
@@ -163,6 +188,8 @@ namespace dieflow
     std::vector<CycleSummary> cycles;
     /// Discretisation/Velocity degree (1: Q1-P0, 2: Q2-P1disc).
     unsigned int              velocity_degree = 1;
+    /// Problem: "steady" (cycles are refinement cycles) or "incremental" (time steps).
+    std::string               problem = "steady";
     /// Geometry: "plane strain" (forces per mm of depth) or "axisymmetric" (whole body, N).
     std::string               geometry = "plane strain";
     /// Wall time (s) per stage: setup, assembly, linear solve, postprocess, refinement.

@@ -1,0 +1,94 @@
+#ifndef dieflow_incremental_contact_gaps_h
+#define dieflow_incremental_contact_gaps_h
+
+#include <dieflow/contact/die_surface.h>
+#include <dieflow/parameters.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <map>
+#include <set>
+#include <vector>
+
+namespace dieflow
+{
+  /// What ContactGaps::update() did in one step.
+  struct GapUpdate
+  {
+    /// Boundary faces that came onto a die (free -> die id) and left it.
+    unsigned int entered = 0;
+    unsigned int left    = 0;
+    /// The deepest a free node went through a die within the step, before
+    /// it was put back on the die's surface (mm; 0 when none crossed).
+    double penetration = 0;
+  };
+
+  /**
+   * Contact by the gap in positions (Problem = incremental): the seed
+   * paper's g_n = (x_s - x_1).n, for the nodes of the free surface. The
+   * velocity problem of a step keeps the nodes of the die faces on the die
+   * (their gap rate g_n' = v.n <= 0, the active set), and after the move
+   * the nodes in contact are put back on it (the drift of a curved die, or
+   * of Adams-Bashforth 2's previous velocity, never adds up); the free surface's
+   * nodes are not in it, so a node that the step moves through a die
+   * (its distance to a facet's plane changes sign and it ends over that
+   * facet) is put back onto the facet's plane along the normal, and the
+   * depth it went through is reported. Then a free face whose vertices all
+   * lie on one die (within 1e-6 of the die's size) becomes a face of that
+   * die (its boundary id), so that the next step's active set takes its
+   * nodes (they enter in contact and may separate at the next state
+   * update); a die face with no vertex left on the die goes back to the
+   * free surface (its id before, or the first traction-free id). A face
+   * with some vertices on the die keeps its id: the nodes off it are the
+   * active set's separated nodes, and a face that entered and left on
+   * alternate steps would rebuild the contact set every step.
+   *
+   * The dies are the Contact/Die surfaces where given, else the metal's die
+   * faces at t = 0, whose end segments (2D) go on straight by the mesh's
+   * diameter (the metal slides past the edge of its first contact on a
+   * platen). They are fixed in the frame of the deck (the dies do not move
+   * yet: upsetting runs in the frame of the platen).
+   */
+  template <int dim>
+  class ContactGaps
+  {
+  public:
+    void
+    initialize(const dealii::Triangulation<dim> &           triangulation,
+               const std::set<BoundaryId> &                  die_ids,
+               const std::map<BoundaryId, DieSurface<dim>> & given_surfaces,
+               const std::set<BoundaryId> &                  free_ids);
+
+    /**
+     * After the mesh moved from @p old_vertices to its vertices now: the
+     * vertices of die faces that were @p in_contact (by vertex index: the
+     * active set of the step's solution) go back onto their die, those of
+     * the free surface that went through a die too, and faces come onto
+     * and leave the dies.
+     */
+    GapUpdate
+    update(const std::vector<dealii::Point<dim>> &old_vertices,
+           const std::vector<bool> &              in_contact,
+           dealii::Triangulation<dim> &           triangulation);
+
+    bool
+    empty() const
+    {
+      return dies.empty();
+    }
+
+  private:
+    /// How many vertices of @p face lie on the surface of @p die.
+    template <typename FaceIterator>
+    unsigned int
+    vertices_on(const FaceIterator &face, const BoundaryId die) const;
+
+    std::map<BoundaryId, DieSurface<dim>> dies;
+    std::set<BoundaryId>                  free_ids;
+    /// The id a face had before it came onto a die (by face index).
+    std::map<unsigned int, BoundaryId> id_before;
+    double                             tolerance = 0;
+  };
+} // namespace dieflow
+
+#endif

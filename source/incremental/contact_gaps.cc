@@ -1,0 +1,172 @@
+#include <dieflow/incremental/contact_gaps.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <algorithm>
+
+namespace dieflow
+{
+  namespace
+  {
+    /// Calls @p act(id, vertex index, vertex) once for each vertex of the
+    /// boundary faces whose id satisfies @p selected (the first such face's id).
+    template <int dim, typename Selected, typename Act>
+    void
+    for_each_vertex_of(dealii::Triangulation<dim> &triangulation, const Selected &selected, const Act &act)
+    {
+      std::vector<bool> done(triangulation.n_vertices(), false);
+      for (const auto &cell : triangulation.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && selected(face->boundary_id()))
+            for (const unsigned int v : face->vertex_indices())
+              if (!done[face->vertex_index(v)])
+                {
+                  done[face->vertex_index(v)] = true;
+                  act(face->boundary_id(), face->vertex_index(v), face->vertex(v));
+                }
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  ContactGaps<dim>::initialize(const dealii::Triangulation<dim> &          triangulation,
+                               const std::set<BoundaryId> &                 die_ids,
+                               const std::map<BoundaryId, DieSurface<dim>> &given_surfaces,
+                               const std::set<BoundaryId> &                 free)
+  {
+    free_ids = free;
+    dies.clear();
+    std::map<BoundaryId, std::vector<typename DieSurface<dim>::Facet>> faces;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && die_ids.count(face->boundary_id()) && !given_surfaces.count(face->boundary_id()))
+          {
+            // A quadrilateral face as two triangles, split on the diagonal 0-3.
+            typename DieSurface<dim>::Facet facet;
+            if constexpr (dim == 2)
+              {
+                facet.vertices = {{face->vertex(0), face->vertex(1)}};
+                faces[face->boundary_id()].push_back(facet);
+              }
+            else
+              for (const auto &triangle : {std::array<unsigned int, 3>{{0, 1, 3}}, std::array<unsigned int, 3>{{0, 3, 2}}})
+                {
+                  for (unsigned int k = 0; k < 3; ++k)
+                    facet.vertices[k] = face->vertex(triangle[k]);
+                  faces[face->boundary_id()].push_back(facet);
+                }
+          }
+    // The metal leaves a die from the mesh at its edges (a platen's contact
+    // grows): in 2D its end segments go on straight by the mesh's size.
+    const double reach = dealii::GridTools::diameter(triangulation);
+    for (auto &[id, facets] : faces)
+      {
+        if constexpr (dim == 2)
+          {
+            std::map<std::pair<double, double>, unsigned int> ends;
+            for (const auto &f : facets)
+              for (const auto &x : f.vertices)
+                ++ends[{x[0], x[1]}];
+            for (auto &f : facets)
+              for (unsigned int k = 0; k < 2; ++k)
+                if (ends[{f.vertices[k][0], f.vertices[k][1]}] == 1)
+                  {
+                    const auto along = f.vertices[k] - f.vertices[1 - k];
+                    f.vertices[k] += reach / along.norm() * along;
+                  }
+          }
+        dies[id].set_facets(facets);
+      }
+    for (const auto &[id, surface] : given_surfaces)
+      dies[id] = surface;
+    tolerance = 0;
+    for (const auto &[id, surface] : dies)
+      tolerance = std::max(tolerance, 1e-6 * surface.diameter());
+  }
+
+
+
+  template <int dim>
+  template <typename FaceIterator>
+  unsigned int
+  ContactGaps<dim>::vertices_on(const FaceIterator &face, const BoundaryId die) const
+  {
+    unsigned int on = 0;
+    for (const unsigned int v : face->vertex_indices())
+      on += dies.at(die).project(face->vertex(v), tolerance, tolerance).has_value();
+    return on;
+  }
+
+
+
+  template <int dim>
+  GapUpdate
+  ContactGaps<dim>::update(const std::vector<dealii::Point<dim>> &old_vertices,
+                           const std::vector<bool> &              in_contact,
+                           dealii::Triangulation<dim> &           triangulation)
+  {
+    GapUpdate update;
+    if (dies.empty())
+      return update;
+
+    // The nodes in contact stay on their die: the step's velocity keeps
+    // them on its plane to first order, Adams-Bashforth 2's v_{n-1} of a
+    // node that just came onto it did not, and a curved die turns away
+    // from the plane.
+    for_each_vertex_of(triangulation,
+                       [&](const BoundaryId id) { return dies.count(id) > 0; },
+                       [&](const BoundaryId id, const unsigned int index, dealii::Point<dim> &x) {
+                         if (!in_contact[index])
+                           return;
+                         const double moved = x.distance(old_vertices[index]);
+                         if (const auto on = dies.at(id).project(x, moved + tolerance, tolerance))
+                           x = on->point;
+                       });
+
+    // The free surface's nodes that went through a die go back onto it.
+    for_each_vertex_of(triangulation,
+                       [&](const BoundaryId id) { return free_ids.count(id) > 0; },
+                       [&](const BoundaryId, const unsigned int index, dealii::Point<dim> &x) {
+                         for (const auto &[id, surface] : dies)
+                           if (const auto crossing = surface.crossing(old_vertices[index], x, tolerance))
+                             {
+                               update.penetration = std::max(update.penetration, crossing->distance);
+                               x                  = crossing->point;
+                             }
+                       });
+
+    // Faces onto and off the dies.
+    const BoundaryId first_free = free_ids.empty() ? dealii::numbers::invalid_boundary_id : *free_ids.begin();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        {
+          if (!face->at_boundary())
+            continue;
+          const BoundaryId id = face->boundary_id();
+          if (free_ids.count(id))
+            {
+              for (const auto &[die, surface] : dies)
+                if (vertices_on(face, die) == face->n_vertices())
+                  {
+                    id_before[face->index()] = id;
+                    face->set_boundary_id(die);
+                    ++update.entered;
+                    break;
+                  }
+            }
+          else if (dies.count(id) && first_free != dealii::numbers::invalid_boundary_id && vertices_on(face, id) == 0)
+            {
+              const auto before = id_before.find(face->index());
+              face->set_boundary_id(before == id_before.end() ? first_free : before->second);
+
+              ++update.left;
+            }
+        }
+    return update;
+  }
+
+  template class ContactGaps<2>;
+  template class ContactGaps<3>;
+} // namespace dieflow

@@ -1,0 +1,267 @@
+#include <dieflow/incremental/time_stepping.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q1.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dieflow
+{
+  void
+  TimeStepping::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Problem",
+                      "steady",
+                      dealii::Patterns::Selection("steady|incremental"),
+                      "steady: the flow through fixed dies on a fixed domain, with "
+                      "refinement cycles (subsection Refinement). incremental: forming "
+                      "in time (upsetting, forging, the start of an extrusion): every "
+                      "step solves the velocity on the current configuration and the "
+                      "mesh moves with the metal (subsection Incremental); the forces "
+                      "of every step go to load-stroke.txt.");
+    prm.enter_subsection("Incremental");
+    prm.declare_entry("Time step",
+                      "0.01",
+                      dealii::Patterns::Double(0),
+                      "dt in s. The step's stroke, dt times the ram speed, should stay "
+                      "below about a hundredth of the height of the work piece (the "
+                      "shape's error grows as dt^2 with Adams-Bashforth 2, as dt with "
+                      "forward Euler; doc/incremental.md).");
+    prm.declare_entry("End time", "0.1", dealii::Patterns::Double(0), "The time the run ends at, in s.");
+    prm.declare_entry("Integrator",
+                      "Adams-Bashforth 2",
+                      dealii::Patterns::Selection("Adams-Bashforth 2|forward Euler"),
+                      "How the nodes move: Adams-Bashforth 2, x += dt (3/2 v_n - 1/2 "
+                      "v_{n-1}) (second order, one solve per step; Euler on the first "
+                      "step), or forward Euler, x += dt v_n (first order; it loses volume "
+                      "as dt).");
+    prm.declare_entry("Output interval",
+                      "1",
+                      dealii::Patterns::Integer(1),
+                      "Write the fields (Write VTU, Write gnuplot) of every this many "
+                      "steps, and of the last; solution.pvd indexes them by time.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  TimeStepping::parse_parameters(ParameterHandler &prm)
+  {
+    incremental = prm.get("Problem") == "incremental";
+    prm.enter_subsection("Incremental");
+    time_step       = prm.get_double("Time step");
+    end_time        = prm.get_double("End time");
+    integrator      = prm.get("Integrator") == "forward Euler" ? Integrator::forward_euler :
+                                                                  Integrator::adams_bashforth_2;
+    output_interval = prm.get_integer("Output interval");
+    prm.leave_subsection();
+    if (!incremental)
+      return;
+    require(time_step > 0, "Incremental/Time step", "must be positive");
+    require(end_time > 0, "Incremental/End time", "must be positive");
+    require(end_time / time_step <= 1e6,
+            "Incremental/Time step",
+            "End time / Time step = " + deck_number(end_time / time_step) + " steps; at most a million");
+  }
+
+
+
+  unsigned int
+  TimeStepping::n_steps() const
+  {
+    // A last step shorter than 1e-9 dt is round-off of End time / dt.
+    return std::max(1u, static_cast<unsigned int>(std::ceil(end_time / time_step - 1e-9)));
+  }
+
+
+
+  double
+  TimeStepping::time(const unsigned int n) const
+  {
+    return n >= n_steps() ? end_time : n * time_step;
+  }
+
+
+
+  std::pair<double, double>
+  TimeStepping::weights(const unsigned int n, const bool restart) const
+  {
+    const double dt = time(n + 1) - time(n);
+    if (integrator == Integrator::forward_euler || n == 0 || restart)
+      return {dt, 0.};
+    const double r = dt / (time(n) - time(n - 1));
+    return {dt * (1. + 0.5 * r), -dt * 0.5 * r};
+  }
+
+
+
+  bool
+  TimeStepping::writes_output(const unsigned int n) const
+  {
+    return n % output_interval == 0 || n == n_steps();
+  }
+
+
+
+  template <int dim>
+  void
+  move_vertices(const dealii::DoFHandler<dim> &dof_handler,
+                const dealii::Vector<double> & displacement,
+                dealii::Triangulation<dim> &   triangulation)
+  {
+    std::vector<bool> moved(triangulation.n_vertices(), false);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        if (!moved[cell->vertex_index(v)])
+          {
+            moved[cell->vertex_index(v)] = true;
+            for (unsigned int d = 0; d < dim; ++d)
+              cell->vertex(v)[d] += displacement[cell->vertex_dof_index(v, d)];
+          }
+
+    // Coarse cells first, so that a vertex hanging on a face of a cell
+    // that is itself refined at a coarser level is placed after its parents.
+    for (unsigned int level = 0; level < triangulation.n_levels(); ++level)
+      for (const auto &cell : triangulation.active_cell_iterators_on_level(level))
+        for (const auto &face : cell->face_iterators())
+          if (face->has_children())
+            {
+              if constexpr (dim == 2)
+                face->child(0)->vertex(1) = 0.5 * (face->vertex(0) + face->vertex(1));
+              else
+                {
+                  for (unsigned int l = 0; l < 4; ++l)
+                    if (face->line(l)->has_children())
+                      face->line(l)->child(0)->vertex(1) = 0.5 * (face->line(l)->vertex(0) + face->line(l)->vertex(1));
+                  if (face->n_children() == 4)
+                    face->child(0)->vertex(3) =
+                      0.25 * (face->vertex(0) + face->vertex(1) + face->vertex(2) + face->vertex(3));
+                }
+            }
+  }
+
+
+
+  template <int dim>
+  void
+  FixedWalls<dim>::initialize(const dealii::Triangulation<dim> &triangulation, const std::set<BoundaryId> &wall_ids)
+  {
+    planes.clear();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() && wall_ids.count(cell->face(f)->boundary_id()))
+          {
+            const auto     face   = cell->face(f);
+            // The walls are flat: the normal at the face's centre is the plane's.
+            dealii::Tensor<1, dim> normal;
+            if constexpr (dim == 2)
+              {
+                const auto t = face->vertex(1) - face->vertex(0);
+                normal       = dealii::Tensor<1, dim>({t[1], -t[0]});
+              }
+            else
+              normal = dealii::cross_product_3d(face->vertex(3) - face->vertex(0), face->vertex(2) - face->vertex(1));
+            normal /= normal.norm();
+            for (const unsigned int v : face->vertex_indices())
+              {
+                auto &list = planes[face->vertex_index(v)];
+                bool  known = false;
+                for (const auto &[point, n] : list)
+                  known = known || std::abs(std::abs(n * normal) - 1) < 1e-12;
+                if (!known)
+                  list.emplace_back(face->vertex(v), normal);
+              }
+          }
+  }
+
+
+
+  template <int dim>
+  void
+  FixedWalls<dim>::keep(dealii::Triangulation<dim> &triangulation) const
+  {
+    std::vector<bool> done(triangulation.n_vertices(), false);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        {
+          const unsigned int index = cell->vertex_index(v);
+          const auto         walls = planes.find(index);
+          if (done[index] || walls == planes.end())
+            continue;
+          done[index] = true;
+          for (const auto &[point, normal] : walls->second)
+            cell->vertex(v) -= ((cell->vertex(v) - point) * normal) * normal;
+        }
+  }
+
+
+
+  template <int dim>
+  double
+  domain_volume(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation)
+  {
+    const dealii::FE_Q<dim>     fe(1);
+    const dealii::QGauss<dim>   quadrature(2);
+    dealii::FEValues<dim>       fe_values(dealii::StaticMappingQ1<dim>::mapping,
+                                    fe,
+                                    quadrature,
+                                    dealii::update_JxW_values | dealii::update_quadrature_points);
+    double volume = 0;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          volume += coordinates.weight(fe_values.quadrature_point(q)) * fe_values.JxW(q);
+      }
+    return volume;
+  }
+
+
+
+  template <int dim>
+  double
+  smallest_scaled_jacobian(const dealii::Triangulation<dim> &triangulation)
+  {
+    double smallest = std::numeric_limits<double>::max();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        {
+          // Lexicographic vertices: the edge along axis d joins v and v ^ 2^d,
+          // pointing towards +xi_d.
+          dealii::Tensor<2, dim> J;
+          double                 lengths = 1;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              const unsigned int     other = v ^ (1u << d);
+              dealii::Tensor<1, dim> edge  = cell->vertex(other) - cell->vertex(v);
+              if (v & (1u << d))
+                edge *= -1.;
+              for (unsigned int i = 0; i < dim; ++i)
+                J[i][d] = edge[i];
+              lengths *= edge.norm();
+            }
+          smallest = std::min(smallest, lengths > 0 ? dealii::determinant(J) / lengths : 0.);
+        }
+    return smallest;
+  }
+
+  template class FixedWalls<2>;
+  template class FixedWalls<3>;
+  template void
+  move_vertices(const dealii::DoFHandler<2> &, const dealii::Vector<double> &, dealii::Triangulation<2> &);
+  template void
+  move_vertices(const dealii::DoFHandler<3> &, const dealii::Vector<double> &, dealii::Triangulation<3> &);
+  template double
+  domain_volume(const CoordinateSystem<2> &, const dealii::Triangulation<2> &);
+  template double
+  domain_volume(const CoordinateSystem<3> &, const dealii::Triangulation<3> &);
+  template double
+  smallest_scaled_jacobian(const dealii::Triangulation<2> &);
+  template double
+  smallest_scaled_jacobian(const dealii::Triangulation<3> &);
+} // namespace dieflow
