@@ -23,6 +23,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <filesystem>
+#include <numeric>
 #include <tuple>
 #include <fstream>
 #include <iomanip>
@@ -119,6 +120,9 @@ namespace dieflow
     linear_solver.parse_parameters(prm);
     refinement.parse_parameters(prm);
     time_stepping.parse_parameters(prm);
+    require(!material.hardens() || time_stepping.incremental,
+            "Material/Hardening exponent n",
+            "needs Problem = incremental: a steady run carries no strain (set 0)");
     if (time_stepping.incremental)
       {
         require(refinement.cycles == 1,
@@ -917,6 +921,8 @@ namespace dieflow
     summary.contact_assemblies = contact_assemblies;
     summary.friction_terms     = friction_terms;
     std::map<std::string, Vector<double>> nodal_fields, cell_fields;
+    if (time_stepping.incremental)
+      cell_fields["equivalent_strain"] = equivalent_strain;
     // The pressure is recovered once, for the degree-1 die profiles and the
     // fields.
     const bool     write_fields_now = (run_parameters.write_vtu || run_parameters.write_gnuplot) &&
@@ -1302,6 +1308,15 @@ namespace dieflow
     if (b != 0)
       displacement.add(b, previous_velocity);
     previous_velocity = velocity;
+
+    // The strain, by the same rule, from the rates on the configuration x_n.
+    const Vector<double> rate = cell_strain_rates(coordinates, dof_handler, velocity);
+    equivalent_strain.add(a, rate);
+    if (b != 0)
+      equivalent_strain.add(b, previous_strain_rate);
+    previous_strain_rate = rate;
+    for (unsigned int c = 0; c < cell_hardening.size(); ++c)
+      cell_hardening[c] = material.hardening(equivalent_strain[c]);
     const std::vector<dealii::Point<dim>> old_vertices = triangulation.get_vertices();
     std::vector<bool>                     in_contact(triangulation.n_vertices(), false);
     if (!contact.empty())
@@ -1346,6 +1361,9 @@ namespace dieflow
     record.faces_entered            = last_gap_update.entered;
     record.faces_left               = last_gap_update.left;
     record.penetration              = last_gap_update.penetration;
+    const Vector<double> volumes    = cell_volumes(coordinates, triangulation);
+    record.mean_strain              = (volumes * equivalent_strain) / std::accumulate(volumes.begin(), volumes.end(), 0.);
+    record.max_strain               = equivalent_strain.linfty_norm();
     return record;
   }
 
@@ -1362,12 +1380,13 @@ namespace dieflow
         << " (mm); forces as in summary.json (plane strain N/mm, else N);\n"
         << "# volume_change: (V - V_0) / V_0; min_scaled_jacobian: 1 for rectangles, <= 0 inverted;\n"
         << "# faces_entered / faces_left: boundary faces that came onto a die / left it with the move to this step;\n"
-        << "# penetration: the deepest a free node went through a die in that move, before it was put back (mm).\n"
+        << "# penetration: the deepest a free node went through a die in that move, before it was put back (mm);\n"
+        << "# mean_strain: the equivalent strain the metal has taken, its mean over the volume.\n"
         << "# step time stroke";
     const auto &names = summary.cycles.front().quantities;
     for (const auto &[name, value] : names)
       out << ' ' << name;
-    out << " volume_change min_scaled_jacobian faces_entered faces_left penetration converged\n";
+    out << " volume_change min_scaled_jacobian faces_entered faces_left penetration mean_strain converged\n";
     for (const auto &cycle : summary.cycles)
       {
         const StepRecord &step = *cycle.step;
@@ -1375,8 +1394,8 @@ namespace dieflow
         for (const auto &[name, value] : cycle.quantities)
           out << ' ' << value;
         out << ' ' << std::setprecision(4) << step.volume_change << ' ' << step.smallest_scaled_jacobian << ' '
-            << step.faces_entered << ' ' << step.faces_left << ' ' << step.penetration << ' '
-            << (cycle.converged ? 1 : 0) << '\n';
+            << step.faces_entered << ' ' << step.faces_left << ' ' << step.penetration << ' ' << step.mean_strain
+            << ' ' << (cycle.converged ? 1 : 0) << '\n';
       }
     file.commit();
   }
@@ -1406,6 +1425,13 @@ namespace dieflow
               for (const unsigned int v : face->vertex_indices())
                 ram_start.emplace(face->vertex_index(v), face->vertex(v));
         fixed_walls.initialize(triangulation, boundary_conditions.wall_ids());
+        equivalent_strain.reinit(triangulation.n_active_cells());
+        if (material.hardens())
+          {
+            cell_hardening.reinit(triangulation.n_active_cells());
+            cell_hardening = material.hardening(0.);
+            assembler.set_cell_hardening(&cell_hardening);
+          }
         if (!contact.empty())
           gaps.initialize(triangulation, contact_parameters.die_ids, die_surfaces, boundary_conditions.traction_free_ids);
       }

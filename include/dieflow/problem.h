@@ -323,6 +323,9 @@ namespace dieflow
     /// The dies' surfaces for the free surface's gaps, and the last step's update.
     ContactGaps<dim>                         gaps;
     FixedWalls<dim>                          fixed_walls;
+    /// Per active cell: the equivalent strain, its rate at the previous
+    /// step (Adams-Bashforth 2), and the hardening factor (eps_0 + eps)^n.
+    Vector<double>                           equivalent_strain, previous_strain_rate, cell_hardening;
     GapUpdate                                last_gap_update;
     Vector<double>               system_rhs;
     Vector<double>               raw_residual;

@@ -265,8 +265,13 @@ namespace dieflow
               scratch.symmetric_gradients[i] = coordinates.strain_rate(viscous, i, q);
               D += scratch.local_velocity[i] * scratch.symmetric_gradients[i];
             }
-          const auto   value = material->evaluate(std::sqrt(2. / 3. * (D * D)));
-          const double JxW   = viscous.JxW(q) * coordinates.weight(viscous.quadrature_point(q));
+          auto value = material->evaluate(std::sqrt(2. / 3. * (D * D)));
+          if (cell_hardening != nullptr)
+            {
+              value.eta *= (*cell_hardening)[cell->active_cell_index()];
+              value.d_eta *= (*cell_hardening)[cell->active_cell_index()];
+            }
+          const double JxW = viscous.JxW(q) * coordinates.weight(viscous.quadrature_point(q));
           eta_integral += value.eta * JxW;
           volume += JxW;
           if (body_force != nullptr)

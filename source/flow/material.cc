@@ -157,6 +157,18 @@ namespace dieflow
                         "the mean viscosity of the first iterate (the paper's "
                         "eps = 1e-7 eta_m). The pressure is p = -lambda div v; "
                         "div v is of the order of 1/factor.");
+      prm.declare_entry("Hardening exponent n",
+                        "0",
+                        Double(),
+                        "Strain hardening (Problem = incremental): the law's flow stress "
+                        "times (eps_0 + eps)^n, eps the equivalent strain the metal has "
+                        "taken (carried per cell from step to step); with Norton-Hoff "
+                        "sigma_eq = K (eps_0 + eps)^n epsdot^m. 0: no hardening.");
+      prm.declare_entry("Hardening strain eps0",
+                        "0.01",
+                        Double(),
+                        "eps_0 of the hardening factor (eps_0 + eps)^n: the flow stress "
+                        "of the undeformed metal is the law's times eps_0^n.");
       prm.declare_entry("Reference strain rate",
                         "0",
                         Double(),
@@ -207,6 +219,12 @@ namespace dieflow
             "Material/Maximum viscosity",
             "must exceed Minimum viscosity");
     penalty_factor = positive("Penalty factor");
+    hardening_exponent = prm.get_double("Hardening exponent n");
+    require(std::isfinite(hardening_exponent) && hardening_exponent >= 0 && hardening_exponent <= 1,
+            "Material/Hardening exponent n",
+            "must be in [0, 1], got " + prm.get("Hardening exponent n"));
+    if (hardening_exponent > 0)
+      hardening_strain = positive("Hardening strain eps0");
     reference_strain_rate = prm.get_double("Reference strain rate");
     require(std::isfinite(reference_strain_rate) && reference_strain_rate >= 0,
             "Material/Reference strain rate",

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace dieflow
 {
@@ -202,23 +203,69 @@ namespace dieflow
 
 
   template <int dim>
-  double
-  domain_volume(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation)
+  dealii::Vector<double>
+  cell_strain_rates(const CoordinateSystem<dim> &  coordinates,
+                    const dealii::DoFHandler<dim> &dof_handler,
+                    const dealii::Vector<double> & velocity)
   {
-    const dealii::FE_Q<dim>     fe(1);
-    const dealii::QGauss<dim>   quadrature(2);
-    dealii::FEValues<dim>       fe_values(dealii::StaticMappingQ1<dim>::mapping,
+    const auto &              fe = dof_handler.get_fe();
+    const dealii::QGauss<dim> quadrature(fe.degree + 1);
+    dealii::FEValues<dim>     fe_values(fe,
+                                    quadrature,
+                                    dealii::update_gradients | dealii::update_JxW_values |
+                                      dealii::update_quadrature_points | coordinates.flags());
+    std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    dealii::Vector<double>                       rates(dof_handler.get_triangulation().n_active_cells());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell->get_dof_indices(dofs);
+        double integral = 0, volume = 0;
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            StrainRate<dim> D;
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              D += velocity[dofs[i]] * coordinates.strain_rate(fe_values, i, q);
+            const double JxW = fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
+            integral += std::sqrt(2. / 3. * (D * D)) * JxW;
+            volume += JxW;
+          }
+        rates[cell->active_cell_index()] = integral / volume;
+      }
+    return rates;
+  }
+
+
+
+  template <int dim>
+  dealii::Vector<double>
+  cell_volumes(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation)
+  {
+    const dealii::FE_Q<dim>   fe(1);
+    const dealii::QGauss<dim> quadrature(2);
+    dealii::FEValues<dim>     fe_values(dealii::StaticMappingQ1<dim>::mapping,
                                     fe,
                                     quadrature,
                                     dealii::update_JxW_values | dealii::update_quadrature_points);
-    double volume = 0;
+    dealii::Vector<double>    volumes(triangulation.n_active_cells());
     for (const auto &cell : triangulation.active_cell_iterators())
       {
         fe_values.reinit(cell);
         for (const unsigned int q : fe_values.quadrature_point_indices())
-          volume += coordinates.weight(fe_values.quadrature_point(q)) * fe_values.JxW(q);
+          volumes[cell->active_cell_index()] += coordinates.weight(fe_values.quadrature_point(q)) * fe_values.JxW(q);
       }
-    return volume;
+    return volumes;
+  }
+
+
+
+  template <int dim>
+  double
+  domain_volume(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation)
+  {
+    // Each volume is positive on a valid mesh: the sum is the l1 norm.
+    const dealii::Vector<double> volumes = cell_volumes(coordinates, triangulation);
+    return std::accumulate(volumes.begin(), volumes.end(), 0.);
   }
 
 
@@ -256,6 +303,14 @@ namespace dieflow
   move_vertices(const dealii::DoFHandler<2> &, const dealii::Vector<double> &, dealii::Triangulation<2> &);
   template void
   move_vertices(const dealii::DoFHandler<3> &, const dealii::Vector<double> &, dealii::Triangulation<3> &);
+  template dealii::Vector<double>
+  cell_strain_rates(const CoordinateSystem<2> &, const dealii::DoFHandler<2> &, const dealii::Vector<double> &);
+  template dealii::Vector<double>
+  cell_strain_rates(const CoordinateSystem<3> &, const dealii::DoFHandler<3> &, const dealii::Vector<double> &);
+  template dealii::Vector<double>
+  cell_volumes(const CoordinateSystem<2> &, const dealii::Triangulation<2> &);
+  template dealii::Vector<double>
+  cell_volumes(const CoordinateSystem<3> &, const dealii::Triangulation<3> &);
   template double
   domain_volume(const CoordinateSystem<2> &, const dealii::Triangulation<2> &);
   template double

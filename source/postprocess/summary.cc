@@ -242,7 +242,9 @@ namespace dieflow
               << ", \"volume_change\": " << number(s.step->volume_change)
               << ", \"smallest_scaled_jacobian\": " << number(s.step->smallest_scaled_jacobian)
               << ", \"faces_entered\": " << s.step->faces_entered << ", \"faces_left\": " << s.step->faces_left
-              << ", \"penetration\": " << number(s.step->penetration) << "}";
+              << ", \"penetration\": " << number(s.step->penetration)
+              << ", \"mean_equivalent_strain\": " << number(s.step->mean_strain)
+              << ", \"max_equivalent_strain\": " << number(s.step->max_strain) << "}";
         out << "\n    }";
       }
     out << "\n  ]\n}\n";

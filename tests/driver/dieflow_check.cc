@@ -108,6 +108,8 @@ namespace
             cycle["faces_entered"]       = s.step->faces_entered;
             cycle["faces_left"]          = s.step->faces_left;
             cycle["penetration"]         = s.step->penetration;
+            cycle["mean_strain"]         = s.step->mean_strain;
+            cycle["max_strain"]          = s.step->max_strain;
           }
         if (c > 0 && s.velocity_l2_error)
           {

@@ -168,6 +168,15 @@ namespace dieflow
       cell_penalty = r;
     }
 
+    /// A factor of the viscosity per active cell (strain hardening,
+    /// Material::hardening()), or null: eta and its rate derivative scale
+    /// alike, so the Newton tangent stays consistent.
+    void
+    set_cell_hardening(const Vector<double> *factor)
+    {
+      cell_hardening = factor;
+    }
+
     /**
      * The Jacobian and the right-hand side -R(v) of the update equation,
      * condensed with the homogeneous @p update_constraints, and the raw
@@ -228,6 +237,7 @@ namespace dieflow
     double                       penalty    = 0;
     const Vector<double> *       multiplier = nullptr;
     const Vector<double> *       cell_penalty = nullptr;
+    const Vector<double> *       cell_hardening = nullptr;
   };
 } // namespace dieflow
 

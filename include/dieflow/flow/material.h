@@ -3,6 +3,7 @@
 
 #include <dieflow/parameters.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -173,8 +174,24 @@ namespace dieflow
       return *law;
     }
 
+    /// Whether the flow stress depends on the strain (Hardening exponent n > 0).
+    bool
+    hardens() const
+    {
+      return hardening_exponent > 0;
+    }
+
+    /// The hardening factor (eps_0 + eps)^n at the equivalent strain @p strain (1 without hardening).
+    double
+    hardening(const double strain) const
+    {
+      return hardens() ? std::pow(hardening_strain + strain, hardening_exponent) : 1.;
+    }
+
     /// Name of the law as in the deck.
     std::string law_name;
+    double      hardening_exponent  = 0;
+    double      hardening_strain    = 0.01;
     double      minimum_strain_rate = 1e-4;
     double      minimum_viscosity   = 0;
     double      maximum_viscosity   = 1e300;

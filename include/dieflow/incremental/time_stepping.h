@@ -102,10 +102,27 @@ namespace dieflow
     std::map<unsigned int, std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>>> planes;
   };
 
+  /**
+   * The mean equivalent strain rate sqrt(2/3 D:D) of @p velocity over each
+   * active cell (weighted by 2 pi r in the axisymmetric geometry): the rate
+   * at which the cell's equivalent strain grows. The strain is carried per
+   * cell, and the mesh is Lagrangian, so a cell's strain is its metal's.
+   */
+  template <int dim>
+  dealii::Vector<double>
+  cell_strain_rates(const CoordinateSystem<dim> &  coordinates,
+                    const dealii::DoFHandler<dim> &dof_handler,
+                    const dealii::Vector<double> & velocity);
+
   /// The volume of the mesh (plane strain: area per mm of depth; axisymmetric: 2 pi int y).
   template <int dim>
   double
   domain_volume(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation);
+
+  /// Each active cell's volume, as domain_volume() counts it.
+  template <int dim>
+  dealii::Vector<double>
+  cell_volumes(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation);
 
   /**
    * The smallest scaled Jacobian of the mesh: at every vertex of every cell,

@@ -75,6 +75,9 @@ namespace dieflow
     unsigned int faces_entered = 0;
     unsigned int faces_left    = 0;
     double       penetration   = 0;
+    /// The equivalent strain the metal has taken: its mean over the volume and its largest cell value.
+    double mean_strain = 0;
+    double max_strain  = 0;
   };
 
   /// What one refinement cycle reports (interface.md, summary.json).
