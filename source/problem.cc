@@ -269,11 +269,15 @@ namespace dieflow
                 "Refinement/Indicator",
                 "'dual weighted' does not take Contact/Die surfaces yet (its dual problem finds the die "
                 "facets from the mesh); use Kelly");
+        require(!contact.dies_move(),
+                "Refinement/Indicator",
+                "'dual weighted' does not take Contact/Die velocities yet (its dual problem holds the "
+                "dies at rest); use Kelly");
       }
-    require(!boundary_conditions.velocity_ids.empty(),
+    require(!boundary_conditions.velocity_ids.empty() || (time_stepping.incremental && contact.dies_move()),
             "Boundary conditions/Prescribed velocity ids",
-            "is empty: without a prescribed velocity nothing drives the flow "
-            "and rigid motions are free");
+            "is empty: without a prescribed velocity (or, in Problem = incremental, a die that "
+            "moves: Contact/Die velocities) nothing drives the flow and rigid motions are free");
   }
 
 
@@ -293,6 +297,8 @@ namespace dieflow
     walls.insert(contact_parameters.die_ids.begin(), contact_parameters.die_ids.end());
     wall_nodes = collect_wall_nodes(coordinates, dof_handler, walls, hanging_node_constraints, boundary_conditions.corner_angle);
     attach_die_surfaces(die_surfaces, boundary_conditions.corner_angle, wall_nodes);
+    if (!time_stepping.incremental)
+      check_steady_die_motion();
     if (!contact.empty())
       {
         boundary_conditions.make_prescribed_constraints(dof_handler, prescribed_constraints);
@@ -371,13 +377,36 @@ namespace dieflow
 
   template <int dim>
   void
+  DieFlowProblem<dim>::check_steady_die_motion() const
+  {
+    // A steady run keeps the domain: a die may move only along itself.
+    for (const auto &node : wall_nodes)
+      for (const auto &wall : node.directions)
+        {
+          const Tensor<1, dim> V = contact.velocity_of(wall.id);
+          // (A node on the axis has no area and no normal of its own.)
+          if (!(std::abs(V * wall.normal) > 1e-9 * V.norm()))
+            continue;
+          std::ostringstream message;
+          message << "die " << wall.id << " moves across its own surface (V.n = " << V * wall.normal
+                  << " mm/s at the wall node (" << node.position
+                  << ")); a steady run keeps the domain, so a die may move only along its surface "
+                     "(a belt, a mandrel): use Problem = incremental";
+          require(false, "Contact/Die velocities", message.str());
+        }
+  }
+
+
+
+  template <int dim>
+  void
   DieFlowProblem<dim>::make_constraints()
   {
     boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, false, constraints);
-    contact.add_constraints(constraints);
+    contact.add_constraints(constraints, false);
     constraints.close();
     boundary_conditions.make_constraints(dof_handler, hanging_node_constraints, wall_nodes, true, update_constraints);
-    contact.add_constraints(update_constraints);
+    contact.add_constraints(update_constraints, true);
     update_constraints.close();
   }
 
@@ -1029,6 +1058,9 @@ namespace dieflow
         if (boundary_conditions.velocity_ids.count(id))
           return id;
       }
+    // Driven by a moving die alone (Problem = incremental): the first one.
+    if (boundary_conditions.velocity_ids.empty())
+      return contact_parameters.die_velocities.begin()->first;
     return *boundary_conditions.velocity_ids.begin();
   }
 
@@ -1327,6 +1359,14 @@ namespace dieflow
       }
     move_vertices(dof_handler, displacement, triangulation);
     fixed_walls.keep(triangulation);
+    const double dt = time_stepping.time(n + 1) - time_stepping.time(n);
+    for (const auto &[id, components] : contact_parameters.die_velocities)
+      {
+        const Tensor<1, dim> shift = dt * contact.velocity_of(id);
+        if (die_surfaces.count(id))
+          die_surfaces.at(id).translate(shift);
+        gaps.translate(id, shift);
+      }
     last_gap_update = gaps.update(old_vertices, in_contact, triangulation);
   }
 
@@ -1334,8 +1374,10 @@ namespace dieflow
 
   template <int dim>
   double
-  DieFlowProblem<dim>::ram_stroke() const
+  DieFlowProblem<dim>::ram_stroke(const double time) const
   {
+    if (boundary_conditions.velocity_ids.empty())
+      return contact.velocity_of(goal_part()).norm() * time;
     if (ram_start.empty())
       return 0;
     const auto &vertices = triangulation.get_vertices();
@@ -1354,7 +1396,7 @@ namespace dieflow
     StepRecord record;
     record.step   = n;
     record.time   = time_stepping.time(n);
-    record.stroke = ram_stroke();
+    record.stroke = ram_stroke(record.time);
     record.volume = domain_volume(coordinates, triangulation);
     record.volume_change            = initial_volume > 0 ? record.volume / initial_volume - 1 : 0;
     record.smallest_scaled_jacobian = smallest_scaled_jacobian(triangulation);
@@ -1376,8 +1418,8 @@ namespace dieflow
     AtomicFile    file(run_parameters.output_directory + "/load-stroke.txt");
     std::ostream &out = file.stream();
     out << "# Problem = incremental: one row per step (summary.json has the same per cycle).\n"
-        << "# stroke: mean x displacement of the vertices of boundary part " << goal_part()
-        << " (mm); forces as in summary.json (plane strain N/mm, else N);\n"
+        << "# stroke: " << (boundary_conditions.velocity_ids.empty() ? "the travel of die " : "mean x displacement of the vertices of boundary part ")
+        << goal_part() << " (mm); forces as in summary.json (plane strain N/mm, else N);\n"
         << "# volume_change: (V - V_0) / V_0; min_scaled_jacobian: 1 for rectangles, <= 0 inverted;\n"
         << "# faces_entered / faces_left: boundary faces that came onto a die / left it with the move to this step;\n"
         << "# penetration: the deepest a free node went through a die in that move, before it was put back (mm);\n"

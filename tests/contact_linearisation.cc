@@ -70,10 +70,10 @@ namespace
 
     const auto make = [&]() {
       bc.make_constraints(dofs, hanging, wall_nodes, false, constraints);
-      contact.add_constraints(constraints);
+      contact.add_constraints(constraints, false);
       constraints.close();
       bc.make_constraints(dofs, hanging, wall_nodes, true, update_constraints);
-      contact.add_constraints(update_constraints);
+      contact.add_constraints(update_constraints, true);
       update_constraints.close();
     };
     make();

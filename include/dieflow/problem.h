@@ -205,9 +205,13 @@ namespace dieflow
     /// Time, stroke, volume and cell shape of the current configuration (step @p n).
     StepRecord
     step_record(const unsigned int n) const;
-    /// Mean displacement along x of the vertices of goal_part() since t = 0.
+    /// Mean displacement along x of the vertices of goal_part() since t = 0
+    /// (or, driven by a moving die alone, its travel |V| t).
     double
-    ram_stroke() const;
+    ram_stroke(const double time) const;
+    /// Refuses a die that moves across its own surface in a steady run.
+    void
+    check_steady_die_motion() const;
     /// load-stroke.txt: a row per step of @p summary (rewritten each step).
     void
     write_load_stroke(const RunSummary &summary) const;

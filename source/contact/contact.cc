@@ -97,6 +97,18 @@ namespace dieflow
                       "the surface (within 1e-6 of its size). A relative path is "
                       "relative to the deck's directory. Empty: the dies are the "
                       "mesh's boundary faces.");
+    prm.declare_entry("Die velocities",
+                      "",
+                      Anything(),
+                      "Dies that move, as 'id: vx vy' (3D: 'id: vx vy vz'), mm/s: a "
+                      "rigid translation. The contact conditions hold for the "
+                      "velocity relative to the die (v - V).n <= 0, the friction "
+                      "opposes the slip (v - V).t, and a sticking node moves with "
+                      "the die. In Problem = incremental the die moves by V dt per "
+                      "step (it may drive the flow without a prescribed-velocity "
+                      "part: a platen, a punch); in a steady run only along its "
+                      "own surface (V.n = 0: a belt, a moving mandrel). Ids not "
+                      "listed are at rest.");
     prm.leave_subsection();
   }
 
@@ -147,6 +159,26 @@ namespace dieflow
                 "Contact/Die surfaces",
                 "id " + std::to_string(id) + " is not listed under Die ids");
         die_surface_files[id] = file;
+      }
+    die_velocities.clear();
+    for (const auto &[id, text] : parse_id_text_map("Contact/Die velocities", prm.get("Die velocities")))
+      {
+        require(die_ids.count(id),
+                "Contact/Die velocities",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        std::vector<double> components;
+        for (const std::string &word : dealii::Utilities::split_string_list(text, ' '))
+          {
+            if (word.empty())
+              continue;
+            char *       end   = nullptr;
+            const double value = std::strtod(word.c_str(), &end);
+            require(end != word.c_str() && *end == '\0' && std::isfinite(value),
+                    "Contact/Die velocities",
+                    "'" + word + "' (id " + std::to_string(id) + ") is not a number");
+            components.push_back(value);
+          }
+        die_velocities[id] = components;
       }
     require(!(normal_enforcement == "penalty" && normal_penalty_factor <= 0 && !die_ids.empty()),
             "Contact/Normal penalty factor",
@@ -206,6 +238,26 @@ namespace dieflow
   ContactSet<dim>::initialize(const ContactParameters &p)
   {
     parameters = p;
+    die_velocity.clear();
+    for (const auto &[id, components] : parameters.die_velocities)
+      {
+        require(components.size() == dim,
+                "Contact/Die velocities",
+                "id " + std::to_string(id) + ": " + std::to_string(components.size()) + " velocity component(s) given, " +
+                  std::to_string(dim) + " needed (write 'id: vx vy" + (dim == 3 ? " vz'" : "'") + ")");
+        for (unsigned int d = 0; d < dim; ++d)
+          die_velocity[id][d] = components[d];
+      }
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  ContactSet<dim>::velocity_of(const BoundaryId id) const
+  {
+    const auto it = die_velocity.find(id);
+    return it == die_velocity.end() ? Tensor<1, dim>() : it->second;
   }
 
 
@@ -309,12 +361,17 @@ namespace dieflow
 
   template <int dim>
   typename ContactElement<dim>::Vector
-  ContactSet<dim>::element_velocity(const Node &node, const dealii::Vector<double> &v) const
+  ContactSet<dim>::element_velocity(const Node &node, const Direction &direction, const dealii::Vector<double> &v) const
   {
-    // The die is rigid and fixed: its nodes' velocities are zero.
+    // The die is rigid: its master nodes all move with its translation.
     typename ContactElement<dim>::Vector u = ContactElement<dim>::Vector::Zero();
+    const Tensor<1, dim>                 die = velocity_of(direction.wall.id);
     for (unsigned int d = 0; d < dim; ++d)
-      u[d] = v[node.dofs[d]];
+      {
+        u[d] = v[node.dofs[d]];
+        for (unsigned int a = 1; a <= dim; ++a)
+          u[a * dim + d] = die[d];
+      }
     return u;
   }
 
@@ -510,14 +567,13 @@ namespace dieflow
             forces       = all_forces[i];
             stick_forces = all_stick_forces[i];
           }
-        const auto u    = element_velocity(node, v);
         const bool held = node.n_held() > 0;
 
         // Normal direction.
         for (unsigned int k = 0; k < node.directions.size(); ++k)
           {
             Direction &  dir    = node.directions[k];
-            const double g_n    = dir.element.normal_rate(u);
+            const double g_n    = dir.element.normal_rate(element_velocity(node, dir, v));
             bool         active = dir.active;
             dir.free_reaction = 0;
             if (penalty)
@@ -558,7 +614,7 @@ namespace dieflow
             if (dir.active && sliding)
               {
                 const FrictionLaw law       = law_of(dir);
-                const Slip        slip_rate = dir.element.tangential_rate(u);
+                const Slip        slip_rate = dir.element.tangential_rate(element_velocity(node, dir, v));
                 const Slip        current =
                   sticks_exactly(node, dir) ?
                     dir.stick_force :
@@ -654,22 +710,31 @@ namespace dieflow
 
   template <int dim>
   void
-  ContactSet<dim>::add_constraints(AffineConstraints<double> &constraints) const
+  ContactSet<dim>::add_constraints(AffineConstraints<double> &constraints, const bool homogeneous) const
   {
     if (uses_penalty())
       return;
     for (const auto &node : nodes)
       {
+        // v.n_k = V.n_k (the die's translation V), and v.t_i = V.t_i where
+        // the node sticks; the Newton updates' constraints are homogeneous.
         std::vector<Tensor<1, dim>> normals;
+        std::vector<double>         values;
         for (const auto &dir : node.directions)
           if (dir.active)
             {
+              const Tensor<1, dim> die = homogeneous ? Tensor<1, dim>() : velocity_of(dir.wall.id);
               normals.push_back(dir.wall.normal);
+              values.push_back(die * dir.wall.normal);
               if (sticks_exactly(node, dir))
-                normals.insert(normals.end(), dir.element.tangents.begin(), dir.element.tangents.end());
+                for (const auto &t : dir.element.tangents)
+                  {
+                    normals.push_back(t);
+                    values.push_back(die * t);
+                  }
             }
         if (!normals.empty())
-          constrain_normal_components<dim>(node.dofs, normals, std::vector<double>(normals.size(), 0.), constraints);
+          constrain_normal_components<dim>(node.dofs, normals, values, constraints);
       }
   }
 
@@ -685,11 +750,11 @@ namespace dieflow
       {
         if (!penalty && node.n_held() >= dim)
           continue; // separated, or held by two walls: no friction work
-        const auto u = element_velocity(node, v);
         for (const auto &dir : node.directions)
           {
             if (!dir.active)
               continue;
+            const auto u = element_velocity(node, dir, v);
             const FrictionLaw law = law_of(dir);
             if (!penalty && (law.frictionless() || sticks_exactly(node, dir)))
               continue;
@@ -747,9 +812,9 @@ namespace dieflow
     std::vector<ContactNodeResult<dim>> result;
     for (const auto &node : nodes)
       {
-        const auto u = element_velocity(node, v);
         for (const auto &dir : node.directions)
           {
+            const auto             u = element_velocity(node, dir, v);
             ContactNodeResult<dim> r;
             r.position       = node.position;
             r.vertex         = node.vertex;

@@ -131,6 +131,19 @@ namespace dieflow
 
 
   template <int dim>
+  void
+  DieSurface<dim>::translate(const Tensor<1, dim> &shift)
+  {
+    std::vector<Facet> moved = facets;
+    for (auto &facet : moved)
+      for (auto &x : facet.vertices)
+        x += shift;
+    set_facets(moved);
+  }
+
+
+
+  template <int dim>
   std::optional<typename DieSurface<dim>::Match>
   DieSurface<dim>::find(const Point<dim> &position, const Tensor<1, dim> &metal_normal, const double tolerance,
                         const double cos_corner) const

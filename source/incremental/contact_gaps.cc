@@ -89,6 +89,19 @@ namespace dieflow
 
 
   template <int dim>
+  void
+  ContactGaps<dim>::translate(const BoundaryId id, const dealii::Tensor<1, dim> &shift)
+  {
+    if (const auto it = dies.find(id); it != dies.end())
+      {
+        it->second.translate(shift);
+        shifts[id] += shift;
+      }
+  }
+
+
+
+  template <int dim>
   template <typename FaceIterator>
   unsigned int
   ContactGaps<dim>::vertices_on(const FaceIterator &face, const BoundaryId die) const
@@ -129,8 +142,10 @@ namespace dieflow
     for_each_vertex_of(triangulation,
                        [&](const BoundaryId id) { return free_ids.count(id) > 0; },
                        [&](const BoundaryId, const unsigned int index, dealii::Point<dim> &x) {
+                         // In the frame of a moving die, the node started
+                         // at its old position plus the die's shift.
                          for (const auto &[id, surface] : dies)
-                           if (const auto crossing = surface.crossing(old_vertices[index], x, tolerance))
+                           if (const auto crossing = surface.crossing(old_vertices[index] + shifts[id], x, tolerance))
                              {
                                update.penetration = std::max(update.penetration, crossing->distance);
                                x                  = crossing->point;
@@ -164,6 +179,7 @@ namespace dieflow
               ++update.left;
             }
         }
+    shifts.clear();
     return update;
   }
 

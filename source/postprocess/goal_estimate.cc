@@ -193,7 +193,7 @@ namespace dieflow
       }
     AffineConstraints<double> constraints;
     boundary_conditions.make_constraints(dual_dofs, dual_hanging, dual_wall_nodes, true, constraints);
-    dual_contact.add_constraints(constraints);
+    dual_contact.add_constraints(constraints, true);
     constraints.close();
 
     Vector<double> v(dual_dofs.n_dofs());

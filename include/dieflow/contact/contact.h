@@ -40,6 +40,9 @@ namespace dieflow
     double                       active_set_constant       = 1;
     /// Die ids whose die is a surface mesh of its own (Gmsh file names).
     std::map<BoundaryId, std::string> die_surface_files;
+    /// Die ids that move: their rigid translation velocity (components as
+    /// written; the problem checks there are dim of them).
+    std::map<BoundaryId, std::vector<double>> die_velocities;
 
     static void
     declare_parameters(ParameterHandler &prm);
@@ -174,10 +177,11 @@ namespace dieflow
     StateChanges
     update(const dealii::Vector<double> &v, const dealii::Vector<double> &flow_residual, std::ostream &log);
 
-    /// v.n_k = 0 for every active direction, and v.t = 0 where a node
-    /// sticks exactly (active set only).
+    /// v.n_k = V.n_k for every active direction, and v.t = V.t where a
+    /// node sticks exactly (active set only; V the die's velocity, zero
+    /// with @p homogeneous: the constraints of a Newton update).
     void
-    add_constraints(AffineConstraints<double> &constraints) const;
+    add_constraints(AffineConstraints<double> &constraints, const bool homogeneous) const;
 
     /// The contributions of the contact elements at @p v in the frozen states.
     std::vector<ContactContribution<dim>>
@@ -243,6 +247,17 @@ namespace dieflow
     bool
     frictionless(const BoundaryId id) const;
 
+    /// The translation velocity of die id @p id (zero for a die at rest).
+    Tensor<1, dim>
+    velocity_of(const BoundaryId id) const;
+
+    /// Whether any die moves.
+    bool
+    dies_move() const
+    {
+      return !die_velocity.empty();
+    }
+
     /// Friction coefficient of a die id (0 if none given).
     double
     friction_coefficient(const BoundaryId id) const;
@@ -306,8 +321,9 @@ namespace dieflow
     /// omega per node: factor x lambda x w / h, h = (the node's wall length)^(1/(dim-1)).
     double
     penalty_of(const double factor, const WallDirection<dim> &wall) const;
+    /// (v_s, V, .., V): the node's velocity and the die's at its master nodes.
     typename ContactElement<dim>::Vector
-    element_velocity(const Node &node, const dealii::Vector<double> &v) const;
+    element_velocity(const Node &node, const Direction &direction, const dealii::Vector<double> &v) const;
     /// True for a node that one wall holds and that sticks to it exactly.
     bool
     sticks_exactly(const Node &node, const Direction &direction) const;
@@ -320,6 +336,7 @@ namespace dieflow
                        std::vector<Slip> &           stick_forces) const;
 
     ContactParameters          parameters;
+    std::map<BoundaryId, Tensor<1, dim>> die_velocity;
     std::vector<Node>          nodes;
     double                     viscosity_scale = 1;
     double                     penalty_scale   = 1;

@@ -102,6 +102,10 @@ namespace dieflow
     std::optional<Projection>
     crossing(const Point<dim> &from, const Point<dim> &to, const double tolerance) const;
 
+    /// Moves the whole surface by @p shift (a die's rigid step).
+    void
+    translate(const Tensor<1, dim> &shift);
+
     unsigned int
     n_facets() const
     {

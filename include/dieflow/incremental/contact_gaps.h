@@ -46,8 +46,9 @@ namespace dieflow
    * The dies are the Contact/Die surfaces where given, else the metal's die
    * faces at t = 0, whose end segments (2D) go on straight by the mesh's
    * diameter (the metal slides past the edge of its first contact on a
-   * platen). They are fixed in the frame of the deck (the dies do not move
-   * yet: upsetting runs in the frame of the platen).
+   * platen). A die with a velocity (Contact/Die velocities) is translated
+   * before each update, so that the nodes in contact go back onto where it
+   * is now and a node crosses it where it moved to.
    */
   template <int dim>
   class ContactGaps
@@ -71,6 +72,10 @@ namespace dieflow
            const std::vector<bool> &              in_contact,
            dealii::Triangulation<dim> &           triangulation);
 
+    /// Moves die @p id by @p shift (Contact/Die velocities: V dt), before update().
+    void
+    translate(const BoundaryId id, const dealii::Tensor<1, dim> &shift);
+
     bool
     empty() const
     {
@@ -84,6 +89,8 @@ namespace dieflow
     vertices_on(const FaceIterator &face, const BoundaryId die) const;
 
     std::map<BoundaryId, DieSurface<dim>> dies;
+    /// How far each die moved since the last update().
+    std::map<BoundaryId, dealii::Tensor<1, dim>> shifts;
     std::set<BoundaryId>                  free_ids;
     /// The id a face had before it came onto a die (by face index).
     std::map<unsigned int, BoundaryId> id_before;
