@@ -302,7 +302,8 @@ namespace dieflow
     if (!contact.empty())
       {
         boundary_conditions.make_prescribed_constraints(dof_handler, prescribed_constraints);
-        contact.setup(wall_nodes, prescribed_constraints, dof_handler.n_dofs() > 0 && contact_states_valid);
+        contact.setup(wall_nodes, prescribed_constraints, dof_handler.n_dofs() > 0 && contact_states_valid,
+                      approaching_nodes());
       }
     make_constraints();
 
@@ -371,6 +372,58 @@ namespace dieflow
       assembler.set_penalty(penalty_factor() * mean_viscosity);
     system_rhs.reinit(dof_handler.n_dofs());
     raw_residual.reinit(dof_handler.n_dofs());
+  }
+
+
+
+  template <int dim>
+  std::vector<WallNode<dim>>
+  DieFlowProblem<dim>::approaching_nodes() const
+  {
+    if (!time_stepping.incremental || !time_stepping.contact_within_step || gaps.empty() ||
+        current_step >= time_stepping.n_steps())
+      return {};
+    const double dt = time_stepping.time(current_step + 1) - time_stepping.time(current_step);
+    // Reach: twice the largest travel of the step (the previous step's
+    // speed, the dies'); a node farther off cannot arrive, and the after-
+    // the-move rule of ContactGaps::update() still catches one that does.
+    const bool   have_velocity = velocity.size() == dof_handler.n_dofs();
+    double       speed         = have_velocity ? velocity.linfty_norm() : 0.;
+    for (const auto &[id, components] : contact_parameters.die_velocities)
+      speed = std::max(speed, contact.velocity_of(id).norm());
+    // Nodes of a die face are the die's already; one on a symmetry plane or
+    // slip wall keeps that wall (ContactSet: a fixed normal).
+    std::set<GlobalDof>                        on_die;
+    std::map<GlobalDof, const WallNode<dim> *> on_wall;
+    for (const auto &node : wall_nodes)
+      {
+        on_wall[node.dofs[0]] = &node;
+        for (const auto &wall : node.directions)
+          if (contact_parameters.die_ids.count(wall.id))
+            on_die.insert(node.dofs[0]);
+      }
+    std::vector<WallNode<dim>> free_nodes;
+    for (auto &node : collect_wall_nodes(coordinates, dof_handler, boundary_conditions.traction_free_ids,
+                                         hanging_node_constraints, boundary_conditions.corner_angle))
+      if (!on_die.count(node.dofs[0]))
+        free_nodes.push_back(std::move(node));
+    // The move will be x += a v_n + b v_{n-1} (advance_configuration()): the
+    // node lands on the die where a (v_n - V).n + b (v_{n-1} - V).n = g,
+    // i.e. (v_n - V).n = (g - b (v_{n-1} - V).n) / a (a + b = dt).
+    const auto [a, b] = time_stepping.weights(current_step, last_gap_update.entered + last_gap_update.left > 0);
+    const bool with_previous = b != 0 && previous_velocity.size() == dof_handler.n_dofs();
+    const auto gap_rate = [&](const WallNode<dim> &node, const WallDirection<dim> &direction, const double gap) {
+      double previous_rate = 0;
+      if (with_previous)
+        for (unsigned int d = 0; d < dim; ++d)
+          previous_rate += (previous_velocity[node.dofs[d]] - contact.velocity_of(direction.id)[d]) * direction.normal[d];
+      return (gap - (with_previous ? b : 0.) * previous_rate) / a;
+    };
+    std::vector<WallNode<dim>> approaching = gaps.approaching(free_nodes, 2 * speed * dt, gap_rate);
+    for (auto &node : approaching)
+      if (const auto wall = on_wall.find(node.dofs[0]); wall != on_wall.end())
+        node.directions.insert(node.directions.end(), wall->second->directions.begin(), wall->second->directions.end());
+    return approaching;
   }
 
 
@@ -1488,6 +1541,7 @@ namespace dieflow
             log << "  INTERRUPTED before " << unit << cycle << std::endl;
             break;
           }
+        current_step = cycle;
         if (cycle > 0)
           {
             if (incremental)

@@ -209,6 +209,10 @@ namespace dieflow
     /// (or, driven by a moving die alone, its travel |V| t).
     double
     ram_stroke(const double time) const;
+    /// The free-surface nodes that may reach a die within the current step
+    /// (ContactGaps::approaching(); empty in a steady run and at the last step).
+    std::vector<WallNode<dim>>
+    approaching_nodes() const;
     /// Refuses a die that moves across its own surface in a steady run.
     void
     check_steady_die_motion() const;
@@ -327,6 +331,8 @@ namespace dieflow
     /// The dies' surfaces for the free surface's gaps, and the last step's update.
     ContactGaps<dim>                         gaps;
     FixedWalls<dim>                          fixed_walls;
+    /// The step being solved (Problem = incremental).
+    unsigned int                             current_step = 0;
     /// Per active cell: the equivalent strain, its rate at the previous
     /// step (Adams-Bashforth 2), and the hardening factor (eps_0 + eps)^n.
     Vector<double>                           equivalent_strain, previous_strain_rate, cell_hardening;

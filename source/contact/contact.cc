@@ -378,10 +378,20 @@ namespace dieflow
 
 
   template <int dim>
+  double
+  ContactSet<dim>::normal_rate(const Node &node, const Direction &direction, const dealii::Vector<double> &v) const
+  {
+    return direction.element.normal_rate(element_velocity(node, direction, v)) - direction.wall.gap_rate;
+  }
+
+
+
+  template <int dim>
   void
   ContactSet<dim>::setup(const std::vector<WallNode<dim>> &die_nodes,
                          const AffineConstraints<double> & prescribed,
-                         const bool                        keep_state)
+                         const bool                        keep_state,
+                         const std::vector<WallNode<dim>> &approaching)
   {
     // The states of the previous mesh: a node that remains keeps its own; a
     // new one (the midpoint of a refined wall face) takes that of the
@@ -392,7 +402,8 @@ namespace dieflow
       const Direction *source  = nullptr;
       for (const auto &old : previous)
         for (const auto &candidate : old.directions)
-          if (candidate.wall.id == direction.wall.id && candidate.wall.normal * direction.wall.normal > 0.999 &&
+          if (!(candidate.approaching && !candidate.active) && candidate.wall.id == direction.wall.id &&
+              candidate.wall.normal * direction.wall.normal > 0.999 &&
               old.position.distance(position) < nearest)
             {
               nearest = old.position.distance(position);
@@ -410,41 +421,49 @@ namespace dieflow
         }
     };
 
+    // The die's wall nodes start in contact and slipping (or as on the
+    // previous mesh); the free surface's approaching nodes start separated
+    // and inherit nothing. Walls that are no die hold a node always.
+    const auto add_nodes = [&](const std::vector<WallNode<dim>> &wall_nodes, const bool approach) {
+      for (const auto &wall_node : wall_nodes)
+        {
+          bool is_prescribed = false;
+          for (const auto dof : wall_node.dofs)
+            is_prescribed |= prescribed.is_constrained(dof);
+          if (is_prescribed)
+            continue;
+          Node node;
+          node.dofs     = wall_node.dofs;
+          node.position = wall_node.position;
+          node.vertex   = wall_node.vertex;
+          for (const auto &wall : wall_node.directions)
+            if (parameters.die_ids.count(wall.id))
+              {
+                node.directions.push_back({wall,
+                                           ContactElement<dim>(wall_node.position, wall.facet, wall.normal),
+                                           !approach,
+                                           approach ? ContactStatus::separated : ContactStatus::slip,
+                                           Slip::Unit(0),
+                                           0.,
+                                           Slip::Zero(),
+                                           0.,
+                                           0,
+                                           false,
+                                           false,
+                                           approach});
+                if (keep_state && !approach)
+                  inherit(wall_node.position, node.directions.back());
+              }
+            else
+              node.fixed_normals.push_back(wall.normal);
+          if (!node.directions.empty())
+            nodes.push_back(node);
+        }
+    };
     nodes.clear();
     recent_signatures.clear();
-    for (const auto &wall_node : die_nodes)
-      {
-        bool is_prescribed = false;
-        for (const auto dof : wall_node.dofs)
-          is_prescribed |= prescribed.is_constrained(dof);
-        if (is_prescribed)
-          continue;
-        Node node;
-        node.dofs     = wall_node.dofs;
-        node.position = wall_node.position;
-        node.vertex   = wall_node.vertex;
-        for (const auto &wall : wall_node.directions)
-          if (parameters.die_ids.count(wall.id))
-            {
-              node.directions.push_back({wall,
-                                         ContactElement<dim>(wall_node.position, wall.facet, wall.normal),
-                                         true,
-                                         ContactStatus::slip,
-                                         Slip::Unit(0),
-                                         0.,
-                                         Slip::Zero(),
-                                         0.,
-                                         0,
-                                         false,
-                                         false});
-              if (keep_state)
-                inherit(wall_node.position, node.directions.back());
-            }
-          else
-            node.fixed_normals.push_back(wall.normal);
-        if (!node.directions.empty())
-          nodes.push_back(node);
-      }
+    add_nodes(die_nodes, false);
+    add_nodes(approaching, true);
   }
 
 
@@ -573,7 +592,7 @@ namespace dieflow
         for (unsigned int k = 0; k < node.directions.size(); ++k)
           {
             Direction &  dir    = node.directions[k];
-            const double g_n    = dir.element.normal_rate(element_velocity(node, dir, v));
+            const double g_n    = normal_rate(node, dir, v);
             bool         active = dir.active;
             dir.free_reaction = 0;
             if (penalty)
@@ -716,8 +735,9 @@ namespace dieflow
       return;
     for (const auto &node : nodes)
       {
-        // v.n_k = V.n_k (the die's translation V), and v.t_i = V.t_i where
-        // the node sticks; the Newton updates' constraints are homogeneous.
+        // v.n_k = V.n_k + g_k / dt (the die's translation V; the gap of a
+        // node approaching it), and v.t_i = V.t_i where the node sticks; the
+        // Newton updates' constraints are homogeneous.
         std::vector<Tensor<1, dim>> normals;
         std::vector<double>         values;
         for (const auto &dir : node.directions)
@@ -725,7 +745,7 @@ namespace dieflow
             {
               const Tensor<1, dim> die = homogeneous ? Tensor<1, dim>() : velocity_of(dir.wall.id);
               normals.push_back(dir.wall.normal);
-              values.push_back(die * dir.wall.normal);
+              values.push_back(die * dir.wall.normal + (homogeneous ? 0. : dir.wall.gap_rate));
               if (sticks_exactly(node, dir))
                 for (const auto &t : dir.element.tangents)
                   {
@@ -814,6 +834,9 @@ namespace dieflow
       {
         for (const auto &dir : node.directions)
           {
+            // A free node that stays off the die is no part of its contact.
+            if (dir.approaching && !dir.active)
+              continue;
             const auto             u = element_velocity(node, dir, v);
             ContactNodeResult<dim> r;
             r.position       = node.position;
@@ -824,7 +847,7 @@ namespace dieflow
             r.weight         = dir.wall.weight;
             r.length         = dir.wall.length;
             r.status         = dir.active ? dir.status : ContactStatus::separated;
-            r.normal_rate    = dir.element.normal_rate(u);
+            r.normal_rate    = normal_rate(node, dir, v);
             const Slip slip  = dir.element.tangential_rate(u);
             r.slip_velocity  = dir.element.in_space(slip);
             r.normal_force   = dir.active ? dir.normal_force : 0.;

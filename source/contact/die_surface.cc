@@ -202,7 +202,7 @@ namespace dieflow
             insideness<dim>(f.vertices, x) * std::sqrt(facet_measure<dim>(f.vertices)) < -tolerance)
           continue;
         if (!nearest || std::abs(distance) < nearest->distance)
-          nearest = Projection{x - distance * f.normal, std::abs(distance)};
+          nearest = Projection{x - distance * f.normal, std::abs(distance), f};
       }
     return nearest;
   }
@@ -229,7 +229,7 @@ namespace dieflow
           continue;
         const double depth = went_through ? std::abs(after) : 0.;
         if (!deepest || depth > deepest->distance)
-          deepest = Projection{to - after * f.normal, depth};
+          deepest = Projection{to - after * f.normal, depth, f};
       }
     return deepest;
   }

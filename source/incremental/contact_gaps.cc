@@ -89,6 +89,48 @@ namespace dieflow
 
 
   template <int dim>
+  std::vector<WallNode<dim>>
+  ContactGaps<dim>::approaching(
+    const std::vector<WallNode<dim>> &                                                        free_nodes,
+    const double                                                                              reach,
+    const std::function<double(const WallNode<dim> &, const WallDirection<dim> &, double)> &gap_rate) const
+  {
+    std::vector<WallNode<dim>> result;
+    for (const auto &free_node : free_nodes)
+      {
+        WallNode<dim> node = free_node;
+        node.directions.clear();
+        Tensor<1, dim> outward;
+        double         weight = 0, length = 0;
+        for (const auto &direction : free_node.directions)
+          {
+            outward += direction.normal;
+            weight += direction.weight;
+            length += direction.length;
+          }
+        for (const auto &[id, surface] : dies)
+          if (const auto on = surface.project(free_node.position, reach, tolerance))
+            {
+              // Towards the die; a node already on its plane (put back there
+              // by update()) faces it with its free surface.
+              Tensor<1, dim> normal = on->facet.normal;
+              if (on->distance > tolerance)
+                normal = (on->point - free_node.position) / on->distance;
+              else if (normal * outward < 0)
+                normal = -normal;
+              WallDirection<dim> direction{normal, id, weight, length, on->facet.vertices};
+              direction.gap_rate = gap_rate(free_node, direction, on->distance);
+              node.directions.push_back(direction);
+            }
+        if (!node.directions.empty())
+          result.push_back(node);
+      }
+    return result;
+  }
+
+
+
+  template <int dim>
   void
   ContactGaps<dim>::translate(const BoundaryId id, const dealii::Tensor<1, dim> &shift)
   {

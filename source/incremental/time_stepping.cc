@@ -45,6 +45,16 @@ namespace dieflow
                       dealii::Patterns::Integer(1),
                       "Write the fields (Write VTU, Write gnuplot) of every this many "
                       "steps, and of the last; solution.pvd indexes them by time.");
+    prm.declare_entry("Contact entry",
+                      "within the step",
+                      dealii::Patterns::Selection("within the step|after the move"),
+                      "How a node of the free surface comes onto a die. within the step: "
+                      "the paper's gap g_n + dt (v_s - v_die).n <= 0 in the step's solve "
+                      "(nodes over a die within reach of it are held to (v - V).n <= g/dt, "
+                      "so that one that would go through it lands on it; the move is then "
+                      "forward Euler's). after the move: the node goes through and is put "
+                      "back onto the die, the volume it went through lost (as before; "
+                      "doc/incremental.md compares the two).");
     prm.leave_subsection();
   }
 
@@ -60,6 +70,7 @@ namespace dieflow
     integrator      = prm.get("Integrator") == "forward Euler" ? Integrator::forward_euler :
                                                                   Integrator::adams_bashforth_2;
     output_interval = prm.get_integer("Output interval");
+    contact_within_step = prm.get("Contact entry") == "within the step";
     prm.leave_subsection();
     if (!incremental)
       return;

@@ -153,11 +153,20 @@ namespace dieflow
      * problem), unless @p keep_state maps it (and its contact pressure,
      * about which Coulomb slip linearises) from the previous mesh by
      * position.
+     *
+     * @p approaching (Problem = incremental, ContactGaps::approaching()):
+     * nodes of the free surface near a die, each direction with its gap
+     * rate (g / dt for a forward Euler move). They start separated and
+     * never inherit a state; their condition is (v - V).n <= the gap rate
+     * with the same active set, so an active one is v.n = V.n + the gap
+     * rate: it reaches the die at the end of the step.
      */
     void
     setup(const std::vector<WallNode<dim>> &die_nodes,
           const AffineConstraints<double> & prescribed,
-          const bool                        keep_state);
+          const bool                        keep_state,
+          const std::vector<WallNode<dim>> &approaching = {});
+
 
     /// eta_m, the viscosity scale of c, and lambda, the incompressibility
     /// penalty that omega_n and omega_t are multiples of.
@@ -289,6 +298,8 @@ namespace dieflow
       bool                held_in_contact;
       /// ... or its friction law becomes the regularised one.
       bool                regularised;
+      /// A free-surface node approaching the die (its gap rate in wall).
+      bool                approaching;
     };
     struct Node
     {
@@ -321,6 +332,10 @@ namespace dieflow
     /// omega per node: factor x lambda x w / h, h = (the node's wall length)^(1/(dim-1)).
     double
     penalty_of(const double factor, const WallDirection<dim> &wall) const;
+    /// (v - V).n - g / dt: positive where the node would go through the die
+    /// (g / dt = 0 for a node on it).
+    double
+    normal_rate(const Node &node, const Direction &direction, const dealii::Vector<double> &v) const;
     /// (v_s, V, .., V): the node's velocity and the die's at its master nodes.
     typename ContactElement<dim>::Vector
     element_velocity(const Node &node, const Direction &direction, const dealii::Vector<double> &v) const;

@@ -82,6 +82,8 @@ namespace dieflow
     {
       Point<dim> point;
       double     distance;
+      /// The facet projected onto.
+      Facet facet;
     };
 
     /**

@@ -2,10 +2,12 @@
 #define dieflow_incremental_contact_gaps_h
 
 #include <dieflow/contact/die_surface.h>
+#include <dieflow/mesh/wall_nodes.h>
 #include <dieflow/parameters.h>
 
 #include <deal.II/grid/tria.h>
 
+#include <functional>
 #include <map>
 #include <set>
 #include <vector>
@@ -71,6 +73,24 @@ namespace dieflow
     update(const std::vector<dealii::Point<dim>> &old_vertices,
            const std::vector<bool> &              in_contact,
            dealii::Triangulation<dim> &           triangulation);
+
+    /**
+     * The nodes of the free surface (@p free_nodes, from collect_wall_nodes()
+     * on the traction-free ids) that lie over a die within @p reach of its
+     * plane, each with one direction per such die: the normal towards the
+     * die, the die's id and facet (the master of its contact element), the
+     * node's free-surface weight and length, and the gap rate
+     * @p gap_rate(node, direction, g) at which it reaches the die at the end
+     * of the step (the paper's g_n + dt (v_s - v_die).n <= 0 in rates; the
+     * integrator's, DieFlowProblem::approaching_nodes()). The step's solve
+     * holds them to (v - V).n <= that rate, so that a node that would go
+     * through a die within the step lands on it instead
+     * (ContactSet::setup()).
+     */
+    std::vector<WallNode<dim>>
+    approaching(const std::vector<WallNode<dim>> &free_nodes,
+                const double                      reach,
+                const std::function<double(const WallNode<dim> &, const WallDirection<dim> &, double)> &gap_rate) const;
 
     /// Moves die @p id by @p shift (Contact/Die velocities: V dt), before update().
     void

@@ -45,6 +45,8 @@ namespace dieflow
     double       end_time        = 0;
     Integrator   integrator      = Integrator::adams_bashforth_2;
     unsigned int output_interval = 1;
+    /// Contact entry = within the step (the a priori gap) or after the move.
+    bool         contact_within_step = true;
 
     static void
     declare_parameters(ParameterHandler &prm);

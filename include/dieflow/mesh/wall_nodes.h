@@ -40,6 +40,10 @@ namespace dieflow
     /// The vertices of one wall facet with this normal at the node: the
     /// master segment (facet) of the node's contact element.
     std::array<dealii::Point<dim>, dim> facet;
+    /// A node of the free surface approaching a die (Problem = incremental):
+    /// g / dt, the normal velocity relative to the die at which it reaches
+    /// the die's plane at the end of the step (0 for a node on the die).
+    double gap_rate = 0;
   };
 
   /// Outward unit normal of a straight (planar) boundary face of @p cell.
