@@ -1379,6 +1379,22 @@ namespace dieflow
 
   template <int dim>
   void
+  DieFlowProblem<dim>::advance_strain(const double a, const double b)
+  {
+    // The positions' rule, from the rates on the configuration x_n.
+    const Vector<double> rate = cell_strain_rates(coordinates, dof_handler, velocity);
+    equivalent_strain.add(a, rate);
+    if (b != 0)
+      equivalent_strain.add(b, previous_strain_rate);
+    previous_strain_rate = rate;
+    for (unsigned int c = 0; c < cell_hardening.size(); ++c)
+      cell_hardening[c] = material.hardening(equivalent_strain[c]);
+  }
+
+
+
+  template <int dim>
+  void
   DieFlowProblem<dim>::advance_configuration(const unsigned int n)
   {
     dealii::TimerOutput::Scope scope(timer, "mesh motion");
@@ -1393,15 +1409,8 @@ namespace dieflow
     if (b != 0)
       displacement.add(b, previous_velocity);
     previous_velocity = velocity;
+    advance_strain(a, b);
 
-    // The strain, by the same rule, from the rates on the configuration x_n.
-    const Vector<double> rate = cell_strain_rates(coordinates, dof_handler, velocity);
-    equivalent_strain.add(a, rate);
-    if (b != 0)
-      equivalent_strain.add(b, previous_strain_rate);
-    previous_strain_rate = rate;
-    for (unsigned int c = 0; c < cell_hardening.size(); ++c)
-      cell_hardening[c] = material.hardening(equivalent_strain[c]);
     const std::vector<dealii::Point<dim>> old_vertices = triangulation.get_vertices();
     std::vector<bool>                     in_contact(triangulation.n_vertices(), false);
     if (!contact.empty())

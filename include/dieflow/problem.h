@@ -202,6 +202,10 @@ namespace dieflow
     /// Moves the mesh from t_n to t_{n+1} with the integrator of TimeStepping.
     void
     advance_configuration(const unsigned int n);
+    /// eps += a epsdot_n + b epsdot_{n-1} per cell (the integrator's weights,
+    /// as the positions'), and the hardening factors that follow.
+    void
+    advance_strain(const double a, const double b);
     /// Time, stroke, volume and cell shape of the current configuration (step @p n).
     StepRecord
     step_record(const unsigned int n) const;

@@ -61,7 +61,30 @@ namespace dieflow
           return std::min({1 - l1 - l2, l1, l2});
         }
     }
+
+    /// Whether @p x lies over the facet @p vertices (outside it by at most
+    /// @p tolerance, a length).
+    template <int dim>
+    bool
+    over(const std::array<Point<dim>, dim> &vertices, const Point<dim> &x, const double tolerance)
+    {
+      return insideness<dim>(vertices, x) * std::sqrt(facet_measure<dim>(vertices)) >= -tolerance;
+    }
   } // namespace
+
+
+
+  template <int dim>
+  std::vector<const typename DieSurface<dim>::Facet *>
+  DieSurface<dim>::facets_near(const dealii::BoundingBox<dim> &box) const
+  {
+    std::vector<Box> hits;
+    tree.query(boost::geometry::index::intersects(box), std::back_inserter(hits));
+    std::vector<const Facet *> near;
+    for (const auto &hit : hits)
+      near.push_back(&facets[hit.second]);
+    return near;
+  }
 
 
 
@@ -78,22 +101,8 @@ namespace dieflow
 
     std::vector<Facet> read_facets;
     for (const auto &cell : surface.active_cell_iterators())
-      {
-        // A facet's own vertices; a quadrilateral's (lexicographic) split
-        // on its diagonal 0-3.
-        std::vector<std::vector<unsigned int>> pieces(1);
-        for (unsigned int v = 0; v < dim; ++v)
-          pieces[0].push_back(v);
-        if (dim == 3 && cell->n_vertices() == 4)
-          pieces = {{0, 1, 3}, {0, 3, 2}};
-        for (const auto &piece : pieces)
-          {
-            Facet f;
-            for (unsigned int v = 0; v < dim; ++v)
-              f.vertices[v] = cell->vertex(piece[v]);
-            read_facets.push_back(f);
-          }
-      }
+      for (const Facet &f : facets_of(*cell))
+        read_facets.push_back(f);
     require(!read_facets.empty(), entry, "'" + file_name + "' contains no facets");
     set_facets(read_facets);
   }
@@ -148,30 +157,26 @@ namespace dieflow
   DieSurface<dim>::find(const Point<dim> &position, const Tensor<1, dim> &metal_normal, const double tolerance,
                         const double cos_corner) const
   {
-    std::vector<Box> hits;
-    tree.query(boost::geometry::index::intersects(position), std::back_inserter(hits));
-
     std::optional<Match> best;
     double               best_insideness = -std::numeric_limits<double>::max();
     // The node may lie on an edge or vertex of the die, shared by facets of
     // different normals (a faceted cone): its normal is their mean, by
     // measure, as the mesh's walls do (WallNode).
     Tensor<1, dim> mean_normal;
-    for (const auto &[box, index] : hits)
+    for (const Facet *facet : facets_near(dealii::BoundingBox<dim>(std::make_pair(position, position))))
       {
-        const Facet &f         = facets[index];
+        const Facet &f         = *facet;
         const double alignment = f.normal * metal_normal;
         if (std::abs(alignment) < cos_corner)
           continue;
         const double distance = std::abs((position - f.vertices[0]) * f.normal);
         // Outside the facet by at most the tolerance, too (a node at a
         // facet's edge, written with fewer digits).
-        const double measure = facet_measure<dim>(f.vertices);
-        const double inside  = insideness<dim>(f.vertices, position);
-        if (distance > tolerance || inside * std::sqrt(measure) < -tolerance)
+        if (distance > tolerance || !over<dim>(f.vertices, position, tolerance))
           continue;
+        const double         inside   = insideness<dim>(f.vertices, position);
         const Tensor<1, dim> oriented = alignment > 0 ? f.normal : -f.normal;
-        mean_normal += measure * oriented;
+        mean_normal += facet_measure<dim>(f.vertices) * oriented;
         if (inside > best_insideness)
           {
             best_insideness = inside;
@@ -191,15 +196,12 @@ namespace dieflow
   {
     dealii::BoundingBox<dim> around(std::make_pair(x, x));
     around.extend(radius);
-    std::vector<Box> hits;
-    tree.query(boost::geometry::index::intersects(around), std::back_inserter(hits));
     std::optional<Projection> nearest;
-    for (const auto &[box, index] : hits)
+    for (const Facet *facet : facets_near(around))
       {
-        const Facet &f        = facets[index];
+        const Facet &f        = *facet;
         const double distance = (x - f.vertices[0]) * f.normal;
-        if (std::abs(distance) > radius ||
-            insideness<dim>(f.vertices, x) * std::sqrt(facet_measure<dim>(f.vertices)) < -tolerance)
+        if (std::abs(distance) > radius || !over<dim>(f.vertices, x, tolerance))
           continue;
         if (!nearest || std::abs(distance) < nearest->distance)
           nearest = Projection{x - distance * f.normal, std::abs(distance), f};
@@ -215,17 +217,14 @@ namespace dieflow
   {
     dealii::BoundingBox<dim> path(std::vector<Point<dim>>{from, to});
     path.extend(tolerance);
-    std::vector<Box> hits;
-    tree.query(boost::geometry::index::intersects(path), std::back_inserter(hits));
     std::optional<Projection> deepest;
-    for (const auto &[box, index] : hits)
+    for (const Facet *facet : facets_near(path))
       {
-        const Facet &f      = facets[index];
+        const Facet &f      = *facet;
         const double before = (from - f.vertices[0]) * f.normal;
         const double after  = (to - f.vertices[0]) * f.normal;
         const bool   went_through = before * after < 0 && std::abs(before) > tolerance;
-        if (!(went_through || std::abs(after) <= tolerance) ||
-            insideness<dim>(f.vertices, to) * std::sqrt(facet_measure<dim>(f.vertices)) < -tolerance)
+        if (!(went_through || std::abs(after) <= tolerance) || !over<dim>(f.vertices, to, tolerance))
           continue;
         const double depth = went_through ? std::abs(after) : 0.;
         if (!deepest || depth > deepest->distance)

@@ -42,22 +42,8 @@ namespace dieflow
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary() && die_ids.count(face->boundary_id()) && !given_surfaces.count(face->boundary_id()))
-          {
-            // A quadrilateral face as two triangles, split on the diagonal 0-3.
-            typename DieSurface<dim>::Facet facet;
-            if constexpr (dim == 2)
-              {
-                facet.vertices = {{face->vertex(0), face->vertex(1)}};
-                faces[face->boundary_id()].push_back(facet);
-              }
-            else
-              for (const auto &triangle : {std::array<unsigned int, 3>{{0, 1, 3}}, std::array<unsigned int, 3>{{0, 3, 2}}})
-                {
-                  for (unsigned int k = 0; k < 3; ++k)
-                    facet.vertices[k] = face->vertex(triangle[k]);
-                  faces[face->boundary_id()].push_back(facet);
-                }
-          }
+          for (const auto &facet : DieSurface<dim>::facets_of(*face))
+            faces[face->boundary_id()].push_back(facet);
     // The metal leaves a die from the mesh at its edges (a platen's contact
     // grows): in 2D its end segments go on straight by the mesh's size.
     const double reach = dealii::GridTools::diameter(triangulation);

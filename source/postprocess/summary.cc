@@ -84,7 +84,12 @@ namespace dieflow
     // Plane strain: per mm of depth; axisymmetric: the whole body of revolution; 3D: the body.
     const bool        whole_body = summary.geometry != "plane strain";
     const std::string force_unit = whole_body ? "N" : "N/mm";
-    out << "result (cycle " << last.cycle << ", " << last.dofs << " dofs, velocity degree " << summary.velocity_degree
+    // Problem = incremental: the last step's, at its time.
+    if (last.step)
+      out << "result (step " << last.cycle << ", t = " << last.step->time << " s, ";
+    else
+      out << "result (cycle " << last.cycle << ", ";
+    out << last.dofs << " dofs, velocity degree " << summary.velocity_degree
         << (summary.geometry == "plane strain" ? "" : ", " + summary.geometry) << "):\n";
     for (const auto &[name, value] : last.quantities)
       if (name.rfind("F_x[", 0) == 0)

@@ -104,6 +104,28 @@ namespace dieflow
     std::optional<Projection>
     crossing(const Point<dim> &from, const Point<dim> &to, const double tolerance) const;
 
+    /**
+     * The facets of one cell of a surface mesh or one boundary face of the
+     * metal's mesh (either accessor): a segment or triangle as it is, a
+     * quadrilateral (lexicographic vertices) split on its diagonal 0-3.
+     */
+    template <typename Accessor>
+    static std::vector<Facet>
+    facets_of(const Accessor &cell)
+    {
+      std::vector<std::array<unsigned int, dim>> pieces(1);
+      for (unsigned int v = 0; v < dim; ++v)
+        pieces[0][v] = v;
+      if constexpr (dim == 3)
+        if (cell.n_vertices() == 4)
+          pieces = {{{0, 1, 3}}, {{0, 3, 2}}};
+      std::vector<Facet> result(pieces.size());
+      for (unsigned int p = 0; p < pieces.size(); ++p)
+        for (unsigned int v = 0; v < dim; ++v)
+          result[p].vertices[v] = cell.vertex(pieces[p][v]);
+      return result;
+    }
+
     /// Moves the whole surface by @p shift (a die's rigid step).
     void
     translate(const Tensor<1, dim> &shift);
@@ -122,6 +144,11 @@ namespace dieflow
     }
 
   private:
+    /// The facets whose (widened) bounding boxes meet @p box: the R-tree's
+    /// candidates for the searches above.
+    std::vector<const Facet *>
+    facets_near(const dealii::BoundingBox<dim> &box) const;
+
     std::vector<Facet> facets;
     double             size = 0;
     using Box = std::pair<dealii::BoundingBox<dim>, unsigned int>;
