@@ -127,6 +127,26 @@ namespace dieflow
 
 
 
+  StepTotals
+  step_totals(const RunSummary &summary)
+  {
+    StepTotals totals;
+    for (const auto &cycle : summary.cycles)
+      if (cycle.step)
+        {
+          const StepRecord &step = *cycle.step;
+          totals.steps                    = step.step;
+          totals.largest_penetration      = std::max(totals.largest_penetration, step.penetration);
+          totals.volume_change            = step.volume_change;
+          totals.smallest_scaled_jacobian = std::min(totals.smallest_scaled_jacobian, step.smallest_scaled_jacobian);
+          totals.faces_entered += step.faces_entered;
+          totals.faces_left += step.faces_left;
+        }
+    return totals;
+  }
+
+
+
   void
   write_summary_json(const RunSummary &summary, const std::string &file_name)
   {
@@ -139,6 +159,16 @@ namespace dieflow
         << "  \"velocity_degree\": " << summary.velocity_degree << ",\n"
         << "  \"geometry\": \"" << summary.geometry << "\",\n"
         << "  \"problem\": \"" << summary.problem << "\",\n";
+    if (summary.problem == "incremental")
+      {
+        const StepTotals totals = step_totals(summary);
+        out << "  \"incremental\": {\"steps\": " << totals.steps
+            << ", \"largest_penetration\": " << number(totals.largest_penetration)
+            << ", \"volume_change\": " << number(totals.volume_change)
+            << ", \"smallest_scaled_jacobian\": " << number(totals.smallest_scaled_jacobian)
+            << ", \"faces_entered\": " << totals.faces_entered << ", \"faces_left\": " << totals.faces_left
+            << "},\n";
+      }
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
         << "  \"threads\": " << summary.threads << ",\n"
         << "  \"stage_wall_time\": {";

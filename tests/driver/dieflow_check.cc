@@ -61,6 +61,11 @@ namespace
     q["exit_status"] = exit_status;
     q["n_cycles"]    = summary.cycles.size();
     q["n_warnings"]  = summary.warnings.size();
+    const StepTotals totals         = step_totals(summary);
+    q["largest_penetration"]        = totals.largest_penetration;
+    q["total_faces_entered"]        = totals.faces_entered;
+    q["total_faces_left"]           = totals.faces_left;
+    q["smallest_jacobian_over_run"] = totals.smallest_scaled_jacobian;
     q["target_reached"] = summary.target_reached ? double(*summary.target_reached) : std::nan("");
     const double nan = std::nan("");
     for (unsigned int c = 0; c < summary.cycles.size(); ++c)

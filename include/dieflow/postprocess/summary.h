@@ -61,7 +61,8 @@ namespace dieflow
     /// t_n in s.
     double time = 0;
     /// How far the ram has travelled since t = 0: the mean displacement
-    /// along x of the vertices of the first prescribed-velocity part (mm).
+    /// along x of the vertices of the first prescribed-velocity part, or,
+    /// with none, the travel |V| t of the first moving die (mm).
     double stroke = 0;
     /// The volume of the mesh (plane strain: mm^2 per mm of depth), and
     /// (V - V_0) / V_0.
@@ -220,6 +221,24 @@ namespace dieflow
   write_result_summary(const RunSummary &summary, std::ostream &out);
 
   /// Writes @p summary as JSON (the summary.json contract of interface.md).
+  /// A whole incremental run at a glance (summary.json "incremental").
+  struct StepTotals
+  {
+    unsigned int steps = 0;
+    /// The deepest any free node went through a die over the run (mm).
+    double largest_penetration = 0;
+    /// (V - V_0) / V_0 at the last step; the smallest scaled Jacobian of any step.
+    double volume_change            = 0;
+    double smallest_scaled_jacobian = 1;
+    /// Boundary faces that came onto a die and left one, over the run.
+    unsigned int faces_entered = 0;
+    unsigned int faces_left    = 0;
+  };
+
+  /// The totals of the cycles' step records (none in a steady run).
+  StepTotals
+  step_totals(const RunSummary &summary);
+
   void
   write_summary_json(const RunSummary &summary, const std::string &file_name);
 } // namespace dieflow
