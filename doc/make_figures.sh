@@ -129,9 +129,10 @@ h(s) = 10 - 2*s
 slab(s) = (10/h(s))**0.05 * pi * 1000/h(s) * (1 + 2*0.2*sqrt(1000/h(s))/(3*h(s))) / 1000
 plot '$work/upsetting/load-stroke.txt' using (100*\$3/5):(\$4/1000) with linespoints pt 7 ps 0.5 title 'dieflow, Coulomb mu = 0.2', \
      [0:2.5] '+' using (100*\$1/5):(slab(\$1)) with lines dt 2 lw 2 title 'slab estimate 1 + 2 mu a / (3 h)'
-set title 'mesh at 50 % reduction (the platen moved down to x = 2.5 mm)'
+set title 'mesh at 50 % reduction (the platen moved down to x = 2.5 mm; a new mesh at 39 %)'
 set xlabel 'r (mm)'
 set ylabel 'x (mm)'
+set xrange [0:16]
 set view map
 set size ratio -1
 unset key

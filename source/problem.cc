@@ -19,6 +19,8 @@
 #include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/grid/grid_tools_cache.h>
+#include <deal.II/numerics/fe_field_function.h>
 #include <deal.II/numerics/solution_transfer.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -64,6 +66,9 @@ namespace dieflow
     LinearSolver::declare_parameters(prm);
     RefinementParameters::declare_parameters(prm);
     TimeStepping::declare_parameters(prm);
+    prm.enter_subsection("Incremental");
+    RemeshingParameters::declare_parameters(prm);
+    prm.leave_subsection();
     ContactParameters::declare_parameters(prm);
     prm.enter_subsection("Refinement");
     prm.declare_entry("Probe point",
@@ -120,6 +125,13 @@ namespace dieflow
     linear_solver.parse_parameters(prm);
     refinement.parse_parameters(prm);
     time_stepping.parse_parameters(prm);
+    prm.enter_subsection("Incremental");
+    remeshing.parse_parameters(prm);
+    prm.leave_subsection();
+    require(!remeshing.enabled() || dim == 2 || !time_stepping.incremental,
+            "Incremental/Remesh below Jacobian",
+            "meshing the domain anew is available in 2D only (plane strain, axisymmetric); set 0 and "
+            "Remesh interval = 0 for Dimension = 3");
     require(!material.hardens() || time_stepping.incremental,
             "Material/Hardening exponent n",
             "needs Problem = incremental: a steady run carries no strain (set 0)");
@@ -410,14 +422,13 @@ namespace dieflow
     // The move will be x += a v_n + b v_{n-1} (advance_configuration()): the
     // node lands on the die where a (v_n - V).n + b (v_{n-1} - V).n = g,
     // i.e. (v_n - V).n = (g - b (v_{n-1} - V).n) / a (a + b = dt).
-    const auto [a, b] = time_stepping.weights(current_step, last_gap_update.entered + last_gap_update.left > 0);
-    const bool with_previous = b != 0 && previous_velocity.size() == dof_handler.n_dofs();
+    const auto [a, b] = move_weights(current_step);
     const auto gap_rate = [&](const WallNode<dim> &node, const WallDirection<dim> &direction, const double gap) {
       double previous_rate = 0;
-      if (with_previous)
+      if (b != 0)
         for (unsigned int d = 0; d < dim; ++d)
           previous_rate += (previous_velocity[node.dofs[d]] - contact.velocity_of(direction.id)[d]) * direction.normal[d];
-      return (gap - (with_previous ? b : 0.) * previous_rate) / a;
+      return (gap - b * previous_rate) / a;
     };
     std::vector<WallNode<dim>> approaching = gaps.approaching(free_nodes, 2 * speed * dt, gap_rate);
     for (auto &node : approaching)
@@ -1394,18 +1405,28 @@ namespace dieflow
 
 
   template <int dim>
+  std::pair<double, double>
+  DieFlowProblem<dim>::move_weights(const unsigned int n) const
+  {
+    // Adams-Bashforth 2 assumes v smooth in time; when faces came onto a die
+    // or left it with the last move, v_{n-1} belongs to another contact
+    // state: restart with forward Euler (as on the first step, where there
+    // is no v_{n-1}, which weights() knows).
+    const bool contact_changed = last_gap_update.entered + last_gap_update.left > 0;
+    const bool have_previous   = previous_velocity.size() == dof_handler.n_dofs();
+    return time_stepping.weights(n, contact_changed || !have_previous);
+  }
+
+
+
+  template <int dim>
   void
   DieFlowProblem<dim>::advance_configuration(const unsigned int n)
   {
     dealii::TimerOutput::Scope scope(timer, "mesh motion");
-    // Adams-Bashforth 2 assumes v smooth in time; when faces came onto a die
-    // or left it with the last move, v_{n-1} belongs to another contact
-    // state: restart with forward Euler.
-    const bool contact_changed = last_gap_update.entered + last_gap_update.left > 0;
-    const auto [a, b]          = time_stepping.weights(n, contact_changed);
+    const auto [a, b]           = move_weights(n);
     Vector<double> displacement = velocity;
     displacement *= a;
-    // weights() is forward Euler's on the first step, where there is no v_{n-1}.
     if (b != 0)
       displacement.add(b, previous_velocity);
     previous_velocity = velocity;
@@ -1440,13 +1461,121 @@ namespace dieflow
   {
     if (boundary_conditions.velocity_ids.empty())
       return contact.velocity_of(goal_part()).norm() * time;
+    return std::abs(ram_displacement());
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::ram_displacement() const
+  {
     if (ram_start.empty())
-      return 0;
+      return ram_offset;
     const auto &vertices = triangulation.get_vertices();
     double      sum      = 0;
     for (const auto &[index, start] : ram_start)
       sum += vertices[index][0] - start[0];
-    return std::abs(sum) / ram_start.size();
+    return ram_offset + sum / ram_start.size();
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::record_ram_start()
+  {
+    ram_start.clear();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && face->boundary_id() == goal_part())
+          for (const unsigned int v : face->vertex_indices())
+            ram_start.emplace(face->vertex_index(v), face->vertex(v));
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::remesh(const unsigned int n)
+  {
+    dealii::TimerOutput::Scope scope(timer, "remeshing");
+    RemeshRecord record;
+    record.step                     = n;
+    record.cells_before             = triangulation.n_active_cells();
+    record.jacobian_before          = smallest_scaled_jacobian(triangulation);
+    const double volume_before      = domain_volume(coordinates, triangulation);
+    dealii::Triangulation<dim> fresh;
+    const NewMesh new_mesh = remesh_domain(triangulation, fresh, "Incremental/Remesh below Jacobian");
+
+    // The velocity at the new mesh's nodes (the next solve's first iterate),
+    // and the strain at its cell centres: the old cell there gives its value.
+    dealii::DoFHandler<dim> fresh_dofs(fresh);
+    fresh_dofs.distribute_dofs(fe);
+    const auto at_new_nodes = [&](const Vector<double> &nodal) {
+      Vector<double> values(fresh_dofs.n_dofs());
+      if (nodal.size() != dof_handler.n_dofs())
+        return Vector<double>();
+      const dealii::Functions::FEFieldFunction<dim> field(dof_handler, nodal);
+      dealii::VectorTools::interpolate(fresh_dofs, field, values);
+      return values;
+    };
+    const Vector<double> fresh_velocity          = at_new_nodes(velocity);
+    const Vector<double> fresh_previous_velocity = at_new_nodes(previous_velocity);
+    const dealii::GridTools::Cache<dim> cache(triangulation);
+    std::vector<unsigned int>           old_cell(fresh.n_active_cells());
+    for (const auto &cell : fresh.active_cell_iterators())
+      {
+        const auto old = dealii::GridTools::find_active_cell_around_point(cache, cell->center());
+        require(old.first.state() == dealii::IteratorState::valid,
+                "Incremental/Remesh below Jacobian",
+                "a new cell's centre lies outside the old mesh");
+        old_cell[cell->active_cell_index()] = old.first->active_cell_index();
+      }
+    const auto at_new_cells = [&](const Vector<double> &per_cell) {
+      Vector<double> values(old_cell.size());
+      if (per_cell.size() == triangulation.n_active_cells())
+        for (unsigned int c = 0; c < old_cell.size(); ++c)
+          values[c] = per_cell[old_cell[c]];
+      return values;
+    };
+    const Vector<double> fresh_strain             = at_new_cells(equivalent_strain);
+    const Vector<double> fresh_previous_rate      = at_new_cells(previous_strain_rate);
+
+    // The ram's stroke goes on from where it is.
+    ram_offset = ram_displacement();
+    // The same cells in the same order: distribute_dofs() numbers the copy
+    // as it numbered fresh_dofs.
+    triangulation.clear();
+    triangulation.copy_triangulation(fresh);
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(fe);
+    velocity             = fresh_velocity;
+    previous_velocity    = fresh_previous_velocity;
+    equivalent_strain    = fresh_strain;
+    previous_strain_rate = fresh_previous_rate;
+    if (material.hardens())
+      {
+        cell_hardening.reinit(triangulation.n_active_cells());
+        for (unsigned int c = 0; c < cell_hardening.size(); ++c)
+          cell_hardening[c] = material.hardening(equivalent_strain[c]);
+      }
+    transferred_cell_stress.reinit(0);
+    record_ram_start();
+    fixed_walls.initialize(triangulation, boundary_conditions.wall_ids());
+    gaps.renumber_faces(new_mesh.boundary_face_of_old);
+
+    record.cells_after    = triangulation.n_active_cells();
+    record.jacobian_after = smallest_scaled_jacobian(triangulation);
+    record.volume_change  = domain_volume(coordinates, triangulation) / volume_before - 1;
+    record.split_edges    = new_mesh.split_edges;
+    last_remesh           = record;
+    steps_since_remesh    = 0;
+    log << "  new mesh before step " << n << " (t = " << std::setprecision(6) << time_stepping.time(n)
+        << " s): smallest scaled Jacobian " << std::setprecision(3) << record.jacobian_before << " -> "
+        << record.jacobian_after << ", " << record.cells_before << " -> " << record.cells_after
+        << " cells, volume change " << std::setprecision(2) << record.volume_change << std::setprecision(6)
+        << std::endl;
   }
 
 
@@ -1459,15 +1588,17 @@ namespace dieflow
     record.step   = n;
     record.time   = time_stepping.time(n);
     record.stroke = ram_stroke(record.time);
-    record.volume = domain_volume(coordinates, triangulation);
+    const Vector<double> volumes    = cell_volumes(coordinates, triangulation);
+    record.volume                   = std::accumulate(volumes.begin(), volumes.end(), 0.);
     record.volume_change            = initial_volume > 0 ? record.volume / initial_volume - 1 : 0;
     record.smallest_scaled_jacobian = smallest_scaled_jacobian(triangulation);
     record.faces_entered            = last_gap_update.entered;
     record.faces_left               = last_gap_update.left;
     record.penetration              = last_gap_update.penetration;
-    const Vector<double> volumes    = cell_volumes(coordinates, triangulation);
-    record.mean_strain              = (volumes * equivalent_strain) / std::accumulate(volumes.begin(), volumes.end(), 0.);
+    record.mean_strain              = (volumes * equivalent_strain) / record.volume;
     record.max_strain               = equivalent_strain.linfty_norm();
+    if (last_remesh && last_remesh->step == n)
+      record.remesh = last_remesh;
     return record;
   }
 
@@ -1485,12 +1616,13 @@ namespace dieflow
         << "# volume_change: (V - V_0) / V_0; min_scaled_jacobian: 1 for rectangles, <= 0 inverted;\n"
         << "# faces_entered / faces_left: boundary faces that came onto a die / left it with the move to this step;\n"
         << "# penetration: the deepest a free node went through a die in that move, before it was put back (mm);\n"
-        << "# mean_strain: the equivalent strain the metal has taken, its mean over the volume.\n"
+        << "# mean_strain: the equivalent strain the metal has taken, its mean over the volume;\n"
+        << "# new_mesh: 1 where the domain was meshed anew before the step's solve (Incremental/Remesh below Jacobian).\n"
         << "# step time stroke";
     const auto &names = summary.cycles.front().quantities;
     for (const auto &[name, value] : names)
       out << ' ' << name;
-    out << " volume_change min_scaled_jacobian faces_entered faces_left penetration mean_strain converged\n";
+    out << " volume_change min_scaled_jacobian faces_entered faces_left penetration mean_strain new_mesh converged\n";
     for (const auto &cycle : summary.cycles)
       {
         const StepRecord &step = *cycle.step;
@@ -1523,11 +1655,7 @@ namespace dieflow
     if (incremental)
       {
         initial_volume = domain_volume(coordinates, triangulation);
-        for (const auto &cell : triangulation.active_cell_iterators())
-          for (const auto &face : cell->face_iterators())
-            if (face->at_boundary() && face->boundary_id() == goal_part())
-              for (const unsigned int v : face->vertex_indices())
-                ram_start.emplace(face->vertex_index(v), face->vertex(v));
+        record_ram_start();
         fixed_walls.initialize(triangulation, boundary_conditions.wall_ids());
         equivalent_strain.reinit(triangulation.n_active_cells());
         if (material.hardens())
@@ -1554,7 +1682,14 @@ namespace dieflow
         if (cycle > 0)
           {
             if (incremental)
-              advance_configuration(cycle - 1);
+              {
+                advance_configuration(cycle - 1);
+                if (remeshing.enabled() &&
+                    remeshing.due(smallest_scaled_jacobian(triangulation),
+                                  ++steps_since_remesh,
+                                  last_remesh ? last_remesh->jacobian_after : 1.))
+                  remesh(cycle);
+              }
             else
               refine_mesh();
             states_from_previous_mesh = true;

@@ -18,6 +18,7 @@
 #include <dieflow/mesh/wall_nodes.h>
 #include <dieflow/contact/die_surface.h>
 #include <dieflow/incremental/contact_gaps.h>
+#include <dieflow/incremental/remeshing.h>
 #include <dieflow/incremental/time_stepping.h>
 
 #include <deal.II/base/function_parser.h>
@@ -213,6 +214,30 @@ namespace dieflow
     /// (or, driven by a moving die alone, its travel |V| t).
     double
     ram_stroke(const double time) const;
+    /// The signed mean x displacement of goal_part()'s vertices since t = 0.
+    double
+    ram_displacement() const;
+    /// ram_start: goal_part()'s vertices where they are now.
+    void
+    record_ram_start();
+    /// The weights (a, b) of the move x += a v_n + b v_{n-1} of step @p n:
+    /// TimeStepping's, forward Euler after a change of contact (or without v_{n-1}).
+    std::pair<double, double>
+    move_weights(const unsigned int n) const;
+    /**
+     * Meshes the domain anew before step @p n's solve (remesh_domain(): the
+     * same boundary, Gmsh's quadrilaterals inside) and carries over what the
+     * run holds on the mesh: the velocities v_n (the first iterate of the
+     * solve) and v_{n-1} (Adams-Bashforth 2's), interpolated at the new
+     * nodes: both are fields on the moved mesh, so the value at a new node
+     * is that of the material point there, as the Lagrangian move needs;
+     * the equivalent strain and its previous rate, the old cell's at each
+     * new cell's centre; the ram's stroke, the fixed walls and the faces'
+     * ids before they came onto a die. The contact states follow the nodes
+     * (ContactSet::setup(): the boundary nodes are the same).
+     */
+    void
+    remesh(const unsigned int n);
     /// The free-surface nodes that may reach a die within the current step
     /// (ContactGaps::approaching(); empty in a steady run and at the last step).
     std::vector<WallNode<dim>>
@@ -341,6 +366,11 @@ namespace dieflow
     /// step (Adams-Bashforth 2), and the hardening factor (eps_0 + eps)^n.
     Vector<double>                           equivalent_strain, previous_strain_rate, cell_hardening;
     GapUpdate                                last_gap_update;
+    RemeshingParameters                      remeshing;
+    unsigned int                             steps_since_remesh = 0;
+    std::optional<RemeshRecord>              last_remesh;
+    /// The ram's mean displacement before the last new mesh (ram_start's base).
+    double                                   ram_offset = 0;
     Vector<double>               system_rhs;
     Vector<double>               raw_residual;
 

@@ -118,6 +118,19 @@ namespace dieflow
 
   template <int dim>
   void
+  ContactGaps<dim>::renumber_faces(const std::map<unsigned int, unsigned int> &new_face_of_old)
+  {
+    std::map<unsigned int, BoundaryId> renumbered;
+    for (const auto &[face, id] : id_before)
+      if (const auto it = new_face_of_old.find(face); it != new_face_of_old.end())
+        renumbered[it->second] = id;
+    id_before = renumbered;
+  }
+
+
+
+  template <int dim>
+  void
   ContactGaps<dim>::translate(const BoundaryId id, const dealii::Tensor<1, dim> &shift)
   {
     if (const auto it = dies.find(id); it != dies.end())

@@ -141,6 +141,12 @@ namespace dieflow
           totals.smallest_scaled_jacobian = std::min(totals.smallest_scaled_jacobian, step.smallest_scaled_jacobian);
           totals.faces_entered += step.faces_entered;
           totals.faces_left += step.faces_left;
+          if (step.remesh)
+            {
+              ++totals.remeshings;
+              totals.largest_remesh_volume_change =
+                std::max(totals.largest_remesh_volume_change, std::abs(step.remesh->volume_change));
+            }
         }
     return totals;
   }
@@ -167,7 +173,8 @@ namespace dieflow
             << ", \"volume_change\": " << number(totals.volume_change)
             << ", \"smallest_scaled_jacobian\": " << number(totals.smallest_scaled_jacobian)
             << ", \"faces_entered\": " << totals.faces_entered << ", \"faces_left\": " << totals.faces_left
-            << "},\n";
+            << ", \"remeshings\": " << totals.remeshings
+            << ", \"largest_remesh_volume_change\": " << number(totals.largest_remesh_volume_change) << "},\n";
       }
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
         << "  \"threads\": " << summary.threads << ",\n"
@@ -279,7 +286,17 @@ namespace dieflow
               << ", \"faces_entered\": " << s.step->faces_entered << ", \"faces_left\": " << s.step->faces_left
               << ", \"penetration\": " << number(s.step->penetration)
               << ", \"mean_equivalent_strain\": " << number(s.step->mean_strain)
-              << ", \"max_equivalent_strain\": " << number(s.step->max_strain) << "}";
+              << ", \"max_equivalent_strain\": " << number(s.step->max_strain);
+        if (s.step && s.step->remesh)
+          {
+            const RemeshRecord &r = *s.step->remesh;
+            out << ", \"new_mesh\": {\"cells_before\": " << r.cells_before << ", \"cells_after\": " << r.cells_after
+                << ", \"smallest_scaled_jacobian_before\": " << number(r.jacobian_before)
+                << ", \"smallest_scaled_jacobian_after\": " << number(r.jacobian_after)
+                << ", \"volume_change\": " << number(r.volume_change) << ", \"split_edges\": " << r.split_edges << "}";
+          }
+        if (s.step)
+          out << "}";
         out << "\n    }";
       }
     out << "\n  ]\n}\n";

@@ -66,6 +66,8 @@ namespace
     q["total_faces_entered"]        = totals.faces_entered;
     q["total_faces_left"]           = totals.faces_left;
     q["smallest_jacobian_over_run"] = totals.smallest_scaled_jacobian;
+    q["remeshings"]                 = totals.remeshings;
+    q["largest_remesh_volume_change"] = totals.largest_remesh_volume_change;
     q["target_reached"] = summary.target_reached ? double(*summary.target_reached) : std::nan("");
     const double nan = std::nan("");
     for (unsigned int c = 0; c < summary.cycles.size(); ++c)
@@ -115,6 +117,9 @@ namespace
             cycle["penetration"]         = s.step->penetration;
             cycle["mean_strain"]         = s.step->mean_strain;
             cycle["max_strain"]          = s.step->max_strain;
+            cycle["remeshed"]            = s.step->remesh.has_value();
+            cycle["remesh_volume_change"] = s.step->remesh ? s.step->remesh->volume_change : 0.;
+            cycle["jacobian_after_remesh"] = s.step->remesh ? s.step->remesh->jacobian_after : nan;
           }
         if (c > 0 && s.velocity_l2_error)
           {

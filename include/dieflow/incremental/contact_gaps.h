@@ -92,6 +92,11 @@ namespace dieflow
                 const double                      reach,
                 const std::function<double(const WallNode<dim> &, const WallDirection<dim> &, double)> &gap_rate) const;
 
+    /// After the domain was meshed anew (remesh_domain()): the faces that
+    /// came onto a die remember their id before under their new index.
+    void
+    renumber_faces(const std::map<unsigned int, unsigned int> &new_face_of_old);
+
     /// Moves die @p id by @p shift (Contact/Die velocities: V dt), before update().
     void
     translate(const BoundaryId id, const dealii::Tensor<1, dim> &shift);

@@ -54,6 +54,19 @@ namespace dieflow
     double      estimate     = 0;
   };
 
+  /// A new mesh of the domain (remesh_domain(), before step @p step's solve).
+  struct RemeshRecord
+  {
+    unsigned int step = 0;
+    unsigned int cells_before = 0, cells_after = 0;
+    /// smallest_scaled_jacobian() of the moved mesh and of the new one.
+    double jacobian_before = 0, jacobian_after = 0;
+    /// (V_new - V_old) / V_old: round-off (the boundary is kept).
+    double volume_change = 0;
+    /// Boundary edges split at their midpoints (an odd loop).
+    unsigned int split_edges = 0;
+  };
+
   /// What a step of Problem = incremental adds to its cycle's report.
   struct StepRecord
   {
@@ -79,6 +92,8 @@ namespace dieflow
     /// The equivalent strain the metal has taken: its mean over the volume and its largest cell value.
     double mean_strain = 0;
     double max_strain  = 0;
+    /// The new mesh this step was solved on, if the domain was meshed anew.
+    std::optional<RemeshRecord> remesh;
   };
 
   /// What one refinement cycle reports (interface.md, summary.json).
@@ -233,6 +248,9 @@ namespace dieflow
     /// Boundary faces that came onto a die and left one, over the run.
     unsigned int faces_entered = 0;
     unsigned int faces_left    = 0;
+    /// New meshes of the domain, and the largest |volume change| of one.
+    unsigned int remeshings                   = 0;
+    double       largest_remesh_volume_change = 0;
   };
 
   /// The totals of the cycles' step records (none in a steady run).

@@ -1,0 +1,94 @@
+#ifndef dieflow_incremental_remeshing_h
+#define dieflow_incremental_remeshing_h
+
+#include <dieflow/parameters.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <algorithm>
+#include <map>
+
+namespace dieflow
+{
+  /**
+   * When an incremental run meshes its domain anew (subsection Incremental):
+   * when the smallest scaled Jacobian of the moved mesh falls below a
+   * threshold (smallest_scaled_jacobian(): the sine of the worst corner
+   * angle), and, if asked, every so many steps.
+   */
+  struct RemeshingParameters
+  {
+    /// Remesh when the smallest scaled Jacobian is below this (0: never).
+    double       jacobian_threshold = 0;
+    /// Remesh every this many steps as well (0: only by the Jacobian).
+    unsigned int interval = 0;
+
+    /// Declares the entries in the current subsection (Incremental).
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    bool
+    enabled() const
+    {
+      return jacobian_threshold > 0 || interval > 0;
+    }
+    /**
+     * Whether a configuration whose smallest scaled Jacobian is @p jacobian,
+     * @p steps_since the last new mesh, is meshed anew. A new mesh cannot
+     * have better corners than the boundary's own (a fold's sharp corner):
+     * when the last one, of smallest scaled Jacobian @p last_new_mesh, was
+     * below the threshold, the next one comes when the cells are a tenth
+     * worse than it, not at every step.
+     */
+    bool
+    due(const double jacobian, const unsigned int steps_since, const double last_new_mesh) const
+    {
+      const double threshold = std::min(jacobian_threshold, 0.9 * last_new_mesh);
+      return jacobian < threshold || (interval > 0 && steps_since >= interval);
+    }
+  };
+
+  /// What remesh_domain() made of the old mesh.
+  struct NewMesh
+  {
+    /// Old boundary face index -> the new mesh's face on the same edge (an
+    /// edge split in two to make a loop's edge count even has none).
+    std::map<unsigned int, unsigned int> boundary_face_of_old;
+    /// Boundary edges split at their midpoints (edges without a partner, see remesh_domain()).
+    unsigned int split_edges = 0;
+  };
+
+  /**
+   * Meshes the domain of @p old anew with quadrilaterals, into @p fresh
+   * (2D; the seed paper's "remeshing of the domain"). The boundary stays
+   * what it is: every boundary vertex of @p old is a vertex of the new mesh
+   * and every boundary edge is one edge of it (or two halves, below), with
+   * its boundary id, so that the domain is the same polygon (the volume is
+   * kept to round-off, also in the axisymmetric form: the cells are
+   * straight-sided), the nodes in contact stay where the dies hold them and
+   * the boundary faces keep their ids.
+   *
+   * How: Gmsh (its C++ API, which the Debian deal.II links) triangulates
+   * with Frontal-Delaunay, recombines the triangles into quadrilaterals
+   * with the Blossom algorithm and splits every cell (a quadrilateral into
+   * 4, a triangle into 3), which leaves no triangle whatever Blossom left
+   * but halves every boundary line. So the boundary goes to Gmsh at half
+   * its resolution: consecutive edges a-m-b of one id whose middle vertex
+   * lies within a fifth of the chord from its midpoint are one line a-b,
+   * whose midpoint node is then put back at m; an edge that has no such
+   * partner is a line of its own, and is split at its midpoint (on the
+   * edge: the domain is the same; NewMesh::split_edges). The cell size at
+   * each point is the mean length of its two lines, which Gmsh interpolates
+   * inside. Cells take the material id of @p old's first cell.
+   *
+   * Throws InputError naming @p entry if Gmsh fails or its mesh is not the
+   * old boundary's.
+   */
+  template <int dim>
+  NewMesh
+  remesh_domain(const dealii::Triangulation<dim> &old, dealii::Triangulation<dim> &fresh, const std::string &entry);
+} // namespace dieflow
+
+#endif

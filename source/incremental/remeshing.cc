@@ -1,0 +1,363 @@
+#include <dieflow/incremental/remeshing.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <array>
+#include <csignal>
+#include <cmath>
+
+namespace dieflow
+{
+  void
+  RemeshingParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Remesh below Jacobian",
+                      "0",
+                      dealii::Patterns::Double(0, 1),
+                      "Mesh the domain anew (2D, Gmsh) before a step whose moved mesh has a "
+                      "cell corner whose scaled Jacobian (the sine of its angle; 1 for "
+                      "rectangles) is below this; 0: never. About 0.2-0.3 keeps the cells "
+                      "fit for the solve. The boundary nodes stay, so the volume is kept; "
+                      "the velocity and the equivalent strain go over to the new mesh "
+                      "(doc/incremental.md).");
+    prm.declare_entry("Remesh interval",
+                      "0",
+                      dealii::Patterns::Integer(0),
+                      "Also mesh the domain anew every this many steps since the last "
+                      "new mesh; 0: only by Remesh below Jacobian.");
+  }
+
+
+
+  void
+  RemeshingParameters::parse_parameters(ParameterHandler &prm)
+  {
+    jacobian_threshold = prm.get_double("Remesh below Jacobian");
+    interval           = prm.get_integer("Remesh interval");
+  }
+
+
+
+  namespace
+  {
+    /// A boundary edge with the domain on its left: from vertex a to b.
+    struct BoundaryEdge
+    {
+      unsigned int a = 0, b = 0;
+      BoundaryId   id   = 0;
+      /// The old face (invalid for the halves of a split edge).
+      unsigned int face = dealii::numbers::invalid_unsigned_int;
+    };
+
+    double
+    cross(const dealii::Tensor<1, 2> &u, const dealii::Tensor<1, 2> &w)
+    {
+      return u[0] * w[1] - u[1] * w[0];
+    }
+
+    /// The closed loops of the boundary edges of @p old, each counter-clockwise
+    /// about the domain (holes clockwise). A vertex with two outgoing edges
+    /// (the boundary touches itself) makes the domain no polygon: refused.
+    std::vector<std::vector<BoundaryEdge>>
+    boundary_loops(const dealii::Triangulation<2> &old, const std::string &entry)
+    {
+      std::map<unsigned int, BoundaryEdge> leaving;
+      for (const auto &cell : old.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              BoundaryEdge e{face->vertex_index(0), face->vertex_index(1), face->boundary_id(), face->index()};
+              if (cross(face->vertex(1) - face->vertex(0), cell->center() - face->vertex(0)) < 0)
+                std::swap(e.a, e.b);
+              require(leaving.emplace(e.a, e).second,
+                      entry,
+                      "cannot mesh the domain anew: its boundary touches itself at (" +
+                        deck_number(old.get_vertices()[e.a][0]) + ", " + deck_number(old.get_vertices()[e.a][1]) + ")");
+            }
+      std::vector<std::vector<BoundaryEdge>> loops;
+      while (!leaving.empty())
+        {
+          std::vector<BoundaryEdge> loop;
+          auto                      it = leaving.begin();
+          while (it != leaving.end())
+            {
+              loop.push_back(it->second);
+              leaving.erase(it);
+              it = leaving.find(loop.back().b);
+            }
+          require(loop.back().b == loop.front().a, entry, "cannot mesh the domain anew: a boundary loop does not close");
+          loops.push_back(loop);
+        }
+      return loops;
+    }
+
+    std::pair<unsigned int, unsigned int>
+    edge_key(const unsigned int a, const unsigned int b)
+    {
+      return {std::min(a, b), std::max(a, b)};
+    }
+
+    /// Twice the signed area of @p loop (positive: counter-clockwise).
+    double
+    signed_area(const std::vector<dealii::Point<2>> &x, const std::vector<BoundaryEdge> &loop)
+    {
+      double area = 0;
+      for (const auto &e : loop)
+        area += x[e.a][0] * x[e.b][1] - x[e.b][0] * x[e.a][1];
+      return area;
+    }
+
+    /// Gmsh's API is global state and sets its own signal handlers: one
+    /// session at a time, and dieflow's handlers (interrupt.h) back after it.
+    class GmshSession
+    {
+    public:
+      GmshSession()
+      {
+        for (unsigned int i = 0; i < signals.size(); ++i)
+          sigaction(signals[i], nullptr, &saved[i]);
+        gmsh::initialize(0, nullptr, false);
+        gmsh::option::setNumber("General.Terminal", 0);
+      }
+      ~GmshSession()
+      {
+        gmsh::finalize();
+        for (unsigned int i = 0; i < signals.size(); ++i)
+          sigaction(signals[i], &saved[i], nullptr);
+      }
+
+    private:
+      const std::array<int, 4>             signals{{SIGINT, SIGTERM, SIGSEGV, SIGFPE}};
+      std::array<struct sigaction, 4>      saved;
+    };
+
+    /**
+     * A stretch of a boundary loop that becomes one Gmsh line: two old
+     * edges a-m-b (the line's midpoint node, which Gmsh's subdivision
+     * makes, goes to m), or one edge a-b (the midpoint stays: the edge is
+     * split, on itself).
+     */
+    struct BoundaryGroup
+    {
+      std::vector<BoundaryEdge> edges;
+      unsigned int
+      first() const
+      {
+        return edges.front().a;
+      }
+      unsigned int
+      last() const
+      {
+        return edges.back().b;
+      }
+    };
+
+    /// Pairs the edges of @p loop where their middle vertex is near the
+    /// chord's midpoint (within a fifth of the chord) and both have one id.
+    std::vector<BoundaryGroup>
+    group_edges(const std::vector<dealii::Point<2>> &x, const std::vector<BoundaryEdge> &loop)
+    {
+      const unsigned int n = loop.size();
+      // Start where the id changes (a pair never straddles it), if anywhere.
+      unsigned int start = 0;
+      for (unsigned int k = 0; k < n; ++k)
+        if (loop[k].id != loop[(k + n - 1) % n].id)
+          {
+            start = k;
+            break;
+          }
+      std::vector<BoundaryGroup> groups;
+      for (unsigned int j = 0; j < n;)
+        {
+          const BoundaryEdge &e = loop[(start + j) % n];
+          if (j + 1 < n)
+            {
+              const BoundaryEdge &f     = loop[(start + j + 1) % n];
+              const double        chord = x[e.a].distance(x[f.b]);
+              if (e.id == f.id && x[e.b].distance(0.5 * (x[e.a] + x[f.b])) <= 0.2 * chord)
+                {
+                  groups.push_back({{e, f}});
+                  j += 2;
+                  continue;
+                }
+            }
+          groups.push_back({{e}});
+          ++j;
+        }
+      return groups;
+    }
+
+    NewMesh
+    remesh_polygon(const dealii::Triangulation<2> &old, dealii::Triangulation<2> &fresh, const std::string &entry)
+    {
+      const std::vector<dealii::Point<2>>    x     = old.get_vertices();
+      std::vector<std::vector<BoundaryEdge>> loops = boundary_loops(old, entry);
+      // The outer loop first (the largest counter-clockwise one), then the holes.
+      std::sort(loops.begin(), loops.end(), [&](const auto &l, const auto &m) {
+        return signed_area(x, l) > signed_area(x, m);
+      });
+      for (unsigned int l = 1; l < loops.size(); ++l)
+        require(signed_area(x, loops[l]) < 0, entry, "cannot mesh the domain anew: it has more than one piece");
+
+      GmshSession session;
+      gmsh::model::add("dieflow-remesh");
+      std::map<int, unsigned int>  vertex_of_point; // Gmsh point tag -> old vertex
+      std::map<int, BoundaryGroup> group_of_line;
+      std::map<int, std::pair<int, int>> ends_of_line;
+      std::vector<int>             wires;
+      for (const auto &loop : loops)
+        {
+          const std::vector<BoundaryGroup> groups = group_edges(x, loop);
+          const unsigned int               n      = groups.size();
+          // Gmsh's cell size at a point: the mean length of its two lines, a
+          // single edge's counted twice (its halves are the mesh's edges).
+          const auto size = [&](const BoundaryGroup &g) {
+            return x[g.first()].distance(x[g.last()]) * (g.edges.size() == 1 ? 2. : 1.);
+          };
+          std::vector<int> points(n), lines(n);
+          for (unsigned int k = 0; k < n; ++k)
+            {
+              const double h = 0.5 * (size(groups[(k + n - 1) % n]) + size(groups[k]));
+              points[k]      = gmsh::model::geo::addPoint(x[groups[k].first()][0], x[groups[k].first()][1], 0, h);
+              vertex_of_point[points[k]] = groups[k].first();
+            }
+          for (unsigned int k = 0; k < n; ++k)
+            {
+              lines[k]                = gmsh::model::geo::addLine(points[k], points[(k + 1) % n]);
+              group_of_line[lines[k]] = groups[k];
+              ends_of_line[lines[k]]  = {points[k], points[(k + 1) % n]};
+            }
+          wires.push_back(gmsh::model::geo::addCurveLoop(lines));
+        }
+      const int surface = gmsh::model::geo::addPlaneSurface(wires);
+      gmsh::model::geo::synchronize();
+      for (const auto &[line, group] : group_of_line)
+        gmsh::model::mesh::setTransfiniteCurve(line, 2);
+      gmsh::model::mesh::setRecombine(2, surface);
+      gmsh::option::setNumber("Mesh.Algorithm", 6);              // Frontal-Delaunay
+      gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1); // Blossom
+      // Blossom may leave triangles; splitting every cell (a quadrilateral
+      // into 4, a triangle into 3) leaves none, and halves every line.
+      gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
+      gmsh::model::mesh::generate(2);
+
+      // Gmsh's nodes -> new vertices. The midpoint of a line of two old
+      // edges goes to their middle vertex: the boundary is the old one.
+      std::vector<dealii::Point<2>>       points;
+      std::map<std::size_t, unsigned int> vertex_of_node;
+      std::vector<std::size_t>            tags;
+      std::vector<double>                 coordinates, parametric;
+      gmsh::model::mesh::getNodes(tags, coordinates, parametric, -1, -1, true, false);
+      for (unsigned int i = 0; i < tags.size(); ++i)
+        if (vertex_of_node.emplace(tags[i], points.size()).second)
+          points.emplace_back(coordinates[3 * i], coordinates[3 * i + 1]);
+      const auto node_on = [&](const int dim, const int tag) {
+        std::vector<std::size_t> on;
+        std::vector<double>      c, p;
+        gmsh::model::mesh::getNodes(on, c, p, dim, tag, false, false);
+        require(on.size() == 1, entry, "Gmsh's mesh does not have the old boundary");
+        return vertex_of_node.at(on[0]);
+      };
+      std::map<int, unsigned int> new_vertex_of_point;
+      for (const auto &[point, vertex] : vertex_of_point)
+        {
+          new_vertex_of_point[point] = node_on(0, point);
+          points[new_vertex_of_point[point]] = x[vertex]; // exactly
+        }
+
+      NewMesh                                                       result;
+      dealii::SubCellData                                           boundary;
+      std::map<std::pair<unsigned int, unsigned int>, unsigned int> old_face_of_edge;
+      const auto add_face = [&](const unsigned int a, const unsigned int b, const BoundaryId id, const unsigned int face) {
+        dealii::CellData<1> line;
+        line.vertices    = {a, b};
+        line.boundary_id = id;
+        boundary.boundary_lines.push_back(line);
+        old_face_of_edge[edge_key(a, b)] = face;
+      };
+      for (const auto &[line, group] : group_of_line)
+        {
+          const unsigned int a   = new_vertex_of_point.at(ends_of_line.at(line).first);
+          const unsigned int b   = new_vertex_of_point.at(ends_of_line.at(line).second);
+          const unsigned int mid = node_on(1, line);
+          if (group.edges.size() == 2)
+            {
+              points[mid] = x[group.edges[0].b];
+              add_face(a, mid, group.edges[0].id, group.edges[0].face);
+              add_face(mid, b, group.edges[1].id, group.edges[1].face);
+            }
+          else
+            {
+              add_face(a, mid, group.edges[0].id, dealii::numbers::invalid_unsigned_int);
+              add_face(mid, b, group.edges[0].id, dealii::numbers::invalid_unsigned_int);
+              ++result.split_edges;
+            }
+        }
+
+      std::vector<std::size_t> quads, quad_nodes;
+      gmsh::model::mesh::getElementsByType(3, quads, quad_nodes);
+      require(!quads.empty(), entry, "Gmsh made no quadrilaterals");
+      std::vector<dealii::CellData<2>> cells(quads.size());
+      for (unsigned int c = 0; c < quads.size(); ++c)
+        {
+          // Gmsh's quadrilateral goes round; deal.II's vertices are lexicographic.
+          static constexpr unsigned int lexicographic[4] = {0, 1, 3, 2};
+          for (unsigned int v = 0; v < 4; ++v)
+            cells[c].vertices[v] = vertex_of_node.at(quad_nodes[4 * c + lexicographic[v]]);
+          cells[c].material_id = old.begin_active()->material_id();
+        }
+      dealii::GridTools::invert_all_negative_measure_cells(points, cells);
+      dealii::GridTools::consistently_order_cells(cells);
+      fresh.clear();
+      fresh.create_triangulation(points, cells, boundary);
+
+      // The same boundary: as many boundary faces as edges, each an old one or a half.
+      unsigned int n_boundary_faces = 0;
+      for (const auto &cell : fresh.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              ++n_boundary_faces;
+              const auto it = old_face_of_edge.find(edge_key(face->vertex_index(0), face->vertex_index(1)));
+              require(it != old_face_of_edge.end(), entry, "Gmsh's mesh does not have the old boundary");
+              if (it->second != dealii::numbers::invalid_unsigned_int)
+                result.boundary_face_of_old[it->second] = face->index();
+            }
+      require(n_boundary_faces == old_face_of_edge.size(), entry, "Gmsh's mesh does not have the old boundary");
+      return result;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  NewMesh
+  remesh_domain(const dealii::Triangulation<dim> &old, dealii::Triangulation<dim> &fresh, const std::string &entry)
+  {
+    if constexpr (dim == 2)
+      {
+        try
+          {
+            return remesh_polygon(old, fresh, entry);
+          }
+        catch (const std::string &gmsh_error)
+          {
+            throw InputError(entry + ": Gmsh could not mesh the domain anew: " + gmsh_error);
+          }
+      }
+    else
+      {
+        (void)old;
+        (void)fresh;
+        throw InputError(entry + ": meshing the domain anew is available in 2D only (plane strain, axisymmetric)");
+      }
+  }
+
+  template NewMesh
+  remesh_domain(const dealii::Triangulation<2> &, dealii::Triangulation<2> &, const std::string &);
+  template NewMesh
+  remesh_domain(const dealii::Triangulation<3> &, dealii::Triangulation<3> &, const std::string &);
+} // namespace dieflow
