@@ -25,6 +25,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <filesystem>
+#include <sstream>
 #include <numeric>
 #include <tuple>
 #include <fstream>
@@ -68,6 +69,7 @@ namespace dieflow
     TimeStepping::declare_parameters(prm);
     prm.enter_subsection("Incremental");
     RemeshingParameters::declare_parameters(prm);
+    CheckpointParameters::declare_parameters(prm);
     prm.leave_subsection();
     ContactParameters::declare_parameters(prm);
     prm.enter_subsection("Refinement");
@@ -127,6 +129,7 @@ namespace dieflow
     time_stepping.parse_parameters(prm);
     prm.enter_subsection("Incremental");
     remeshing.parse_parameters(prm);
+    checkpoint.parse_parameters(prm, deck_directory);
     prm.leave_subsection();
     require(!remeshing.enabled() || dim == 2 || !time_stepping.incremental,
             "Incremental/Remesh below Jacobian",
@@ -1623,6 +1626,17 @@ namespace dieflow
     for (const auto &[name, value] : names)
       out << ' ' << name;
     out << " volume_change min_scaled_jacobian faces_entered faces_left penetration mean_strain new_mesh converged\n";
+    out << earlier_load_stroke << load_stroke_rows(summary);
+    file.commit();
+  }
+
+
+
+  template <int dim>
+  std::string
+  DieFlowProblem<dim>::load_stroke_rows(const RunSummary &summary) const
+  {
+    std::ostringstream out;
     for (const auto &cycle : summary.cycles)
       {
         const StepRecord &step = *cycle.step;
@@ -1631,9 +1645,9 @@ namespace dieflow
           out << ' ' << value;
         out << ' ' << std::setprecision(4) << step.volume_change << ' ' << step.smallest_scaled_jacobian << ' '
             << step.faces_entered << ' ' << step.faces_left << ' ' << step.penetration << ' ' << step.mean_strain
-            << ' ' << (cycle.converged ? 1 : 0) << '\n';
+            << ' ' << (step.remesh ? 1 : 0) << ' ' << (cycle.converged ? 1 : 0) << '\n';
       }
-    file.commit();
+    return out.str();
   }
 
 
@@ -1652,7 +1666,10 @@ namespace dieflow
     const bool         incremental = time_stepping.incremental;
     const std::string  unit        = incremental ? "step " : "cycle ";
     const unsigned int n_solves    = incremental ? time_stepping.n_steps() + 1 : refinement.cycles;
-    if (incremental)
+    unsigned int first_solve = 0;
+    if (incremental && !checkpoint.restart_from.empty())
+      first_solve = load_checkpoint(summary) + 1;
+    else if (incremental)
       {
         initial_volume = domain_volume(coordinates, triangulation);
         record_ram_start();
@@ -1668,11 +1685,15 @@ namespace dieflow
           gaps.initialize(triangulation, contact_parameters.die_ids, die_surfaces, boundary_conditions.traction_free_ids);
       }
 
-    for (unsigned int cycle = 0; cycle < n_solves; ++cycle)
+    for (unsigned int cycle = first_solve; cycle < n_solves; ++cycle)
       {
         dealii::Timer cycle_timer;
         if (cycle > 0 && interrupt::requested())
           {
+            // Between two steps the state is a converged step's: the place to go on from.
+            if (incremental && cycle > first_solve &&
+                (summary.checkpoint_file.empty() || summary.checkpoint_step + 1 != cycle))
+              save_checkpoint(cycle - 1, summary);
             summary.interrupted = true;
             summary.failure     = "stopped by " + interrupt::signal_name() + " before " + unit + std::to_string(cycle);
             log << "  INTERRUPTED before " << unit << cycle << std::endl;
@@ -1767,6 +1788,8 @@ namespace dieflow
           log << "  iterative linear solver: " << linear_solver.counts.iterative_solves << " solves, "
               << linear_solver.counts.krylov_iterations << " Krylov iterations, " << linear_solver.counts.direct_fallbacks
               << " direct fallbacks" << std::endl;
+        if (incremental && checkpoint.due(cycle, time_stepping.n_steps()))
+          save_checkpoint(cycle, summary);
         summary.wall_time = run_timer.wall_time();
         write_summary_json(summary, summary_file);
         if (refinement.target_error > 0 && stop_at_target(summary))

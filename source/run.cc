@@ -320,8 +320,14 @@ namespace dieflow
                                     (prm.get_bool("Write VTU") ? ", solution.pvd)" : ")");
         if (summary.interrupted)
           std::cout << "INTERRUPTED: " << summary.failure << "; the results so far are in " << results
-                    << ", summary.json marked \"interrupted\": true. A steady run has no checkpoint: run the deck "
-                       "again to finish it"
+                    << ", summary.json marked \"interrupted\": true. "
+                    << (summary.checkpoint_file.empty() ?
+                          std::string(summary.problem == "steady" ?
+                                        "A steady run has no checkpoint: run the deck again to finish it" :
+                                        "No step was checkpointed: run the deck again") :
+                          "To go on from step " + std::to_string(summary.checkpoint_step) +
+                            ": set Incremental/Restart from = " + summary.checkpoint_file +
+                            " and run the deck again")
                     << std::endl;
         else
           std::cout << (summary.converged ? "converged" : "NOT converged: " + summary.failure) << "; results in "

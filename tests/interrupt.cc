@@ -70,27 +70,6 @@ namespace
     return true;
   }
 
-  /// A log that raises SIGINT when it reads "  converged:" (the end of a cycle).
-  class SignalAtCycleEnd : public std::streambuf
-  {
-  protected:
-    int
-    overflow(const int c) override
-    {
-      text += static_cast<char>(c);
-      if (!raised && text.size() >= 12 && text.compare(text.size() - 12, 12, "  converged:") == 0)
-        {
-          raised = true;
-          std::cout << std::flush;
-          std::raise(SIGINT);
-        }
-      return c;
-    }
-
-  private:
-    std::string text;
-    bool        raised = false;
-  };
 } // namespace
 
 

@@ -4,6 +4,7 @@
 
 #include <dieflow/run.h>
 
+#include <csignal>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -29,5 +30,28 @@ run_deck_text(const std::string &text)
   std::ostringstream log;
   return dieflow::run_deck(prm, ".", log);
 }
+
+/// A log that raises SIGINT when it reads "  converged:" (the end of a
+/// cycle or step): a signal at a fixed point of a run.
+class SignalAtCycleEnd : public std::streambuf
+{
+protected:
+  int
+  overflow(const int c) override
+  {
+    text += static_cast<char>(c);
+    if (!raised && text.size() >= 12 && text.compare(text.size() - 12, 12, "  converged:") == 0)
+      {
+        raised = true;
+        std::cout << std::flush;
+        std::raise(SIGINT);
+      }
+    return c;
+  }
+
+private:
+  std::string text;
+  bool        raised = false;
+};
 
 #endif

@@ -18,6 +18,7 @@
 #include <dieflow/mesh/wall_nodes.h>
 #include <dieflow/contact/die_surface.h>
 #include <dieflow/incremental/contact_gaps.h>
+#include <dieflow/incremental/checkpoint.h>
 #include <dieflow/incremental/remeshing.h>
 #include <dieflow/incremental/time_stepping.h>
 
@@ -245,9 +246,28 @@ namespace dieflow
     /// Refuses a die that moves across its own surface in a steady run.
     void
     check_steady_die_motion() const;
-    /// load-stroke.txt: a row per step of @p summary (rewritten each step).
+    /// load-stroke.txt: a row per step of @p summary (rewritten each step),
+    /// after those of the run a checkpoint came from.
     void
     write_load_stroke(const RunSummary &summary) const;
+    /// The rows of load-stroke.txt for the steps of @p summary.
+    std::string
+    load_stroke_rows(const RunSummary &summary) const;
+    /**
+     * Writes the state at the end of step @p n's solve to Output
+     * directory/checkpoint.dat (atomically), and names it in @p summary:
+     * the mesh (deal.II's serialisation of the triangulation: the moved
+     * vertices, the boundary ids), v_n and v_{n-1}, the strain and its
+     * previous rate, the dies where they are now, the contact states per
+     * node, the faces' ids before they came onto a die, the viscosity scale
+     * of the penalty, the volume at t = 0, the stroke, the last move's
+     * contact events and new mesh, and the outputs' records so far.
+     */
+    void
+    save_checkpoint(const unsigned int n, RunSummary &summary) const;
+    /// Reads the checkpoint of Incremental/Restart from into the run; returns its step.
+    unsigned int
+    load_checkpoint(RunSummary &summary);
     double
     relative_residual(const Vector<double> &minus_residual) const;
     /// eps || |J| |v| || over the free rows, relative to the reactions: the
@@ -371,6 +391,9 @@ namespace dieflow
     std::optional<RemeshRecord>              last_remesh;
     /// The ram's mean displacement before the last new mesh (ram_start's base).
     double                                   ram_offset = 0;
+    CheckpointParameters                     checkpoint;
+    /// load-stroke.txt's rows of the run a checkpoint came from.
+    std::string                              earlier_load_stroke;
     Vector<double>               system_rhs;
     Vector<double>               raw_residual;
 

@@ -387,6 +387,28 @@ namespace dieflow
 
 
   template <int dim>
+  std::vector<typename ContactSet<dim>::StateRecord>
+  ContactSet<dim>::state_records() const
+  {
+    std::vector<StateRecord> records;
+    for (const auto &node : nodes)
+      for (const auto &direction : node.directions)
+        if (!(direction.approaching && !direction.active))
+          records.push_back({node.position,
+                             direction.wall.id,
+                             direction.wall.normal,
+                             direction.wall.weight,
+                             direction.active,
+                             direction.status,
+                             std::vector<double>(direction.slip_direction.data(),
+                                                 direction.slip_direction.data() + direction.slip_direction.size()),
+                             direction.normal_force});
+    return records;
+  }
+
+
+
+  template <int dim>
   void
   ContactSet<dim>::setup(const std::vector<WallNode<dim>> &die_nodes,
                          const AffineConstraints<double> & prescribed,
@@ -396,28 +418,29 @@ namespace dieflow
     // The states of the previous mesh: a node that remains keeps its own; a
     // new one (the midpoint of a refined wall face) takes that of the
     // nearest old node with the same wall direction.
-    const std::vector<Node> previous = keep_state ? nodes : std::vector<Node>();
+    const std::vector<StateRecord> previous =
+      !keep_state ? std::vector<StateRecord>() : restored_states.empty() ? state_records() : restored_states;
+    restored_states.clear();
     const auto inherit = [&](const dealii::Point<dim> &position, Direction &direction) {
-      double           nearest = std::numeric_limits<double>::max();
-      const Direction *source  = nullptr;
-      for (const auto &old : previous)
-        for (const auto &candidate : old.directions)
-          if (!(candidate.approaching && !candidate.active) && candidate.wall.id == direction.wall.id &&
-              candidate.wall.normal * direction.wall.normal > 0.999 &&
-              old.position.distance(position) < nearest)
-            {
-              nearest = old.position.distance(position);
-              source  = &candidate;
-            }
+      double             nearest = std::numeric_limits<double>::max();
+      const StateRecord *source  = nullptr;
+      for (const auto &candidate : previous)
+        if (candidate.id == direction.wall.id && candidate.normal * direction.wall.normal > 0.999 &&
+            candidate.position.distance(position) < nearest)
+          {
+            nearest = candidate.position.distance(position);
+            source  = &candidate;
+          }
       if (source != nullptr)
         {
           direction.active = source->active;
           direction.status = source->status;
-          direction.slip_direction = source->slip_direction;
+          for (unsigned int i = 0; i < direction.slip_direction.size(); ++i)
+            direction.slip_direction[i] = source->slip_direction[i];
           // The contact pressure too: Coulomb slip linearises about the
           // normal force, and with none the first solve on the new mesh
           // would let every slipping node slide frictionless.
-          direction.normal_force = source->normal_force / source->wall.weight * direction.wall.weight;
+          direction.normal_force = source->normal_force / source->weight * direction.wall.weight;
         }
     };
 

@@ -130,6 +130,36 @@ namespace dieflow
 
 
   template <int dim>
+  typename ContactGaps<dim>::State
+  ContactGaps<dim>::state() const
+  {
+    State state;
+    for (const auto &[id, surface] : dies)
+      state.dies[id] = surface.all_facets();
+    state.id_before = id_before;
+    state.free_ids  = free_ids;
+    state.tolerance = tolerance;
+    return state;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactGaps<dim>::restore(const State &state)
+  {
+    dies.clear();
+    for (const auto &[id, facets] : state.dies)
+      dies[id].set_facets(facets);
+    id_before = state.id_before;
+    free_ids  = state.free_ids;
+    tolerance = state.tolerance;
+    shifts.clear();
+  }
+
+
+
+  template <int dim>
   void
   ContactGaps<dim>::translate(const BoundaryId id, const dealii::Tensor<1, dim> &shift)
   {

@@ -130,11 +130,13 @@ namespace dieflow
   StepTotals
   step_totals(const RunSummary &summary)
   {
-    StepTotals totals;
+    StepTotals              totals;
+    std::vector<StepRecord> steps = summary.earlier_steps;
     for (const auto &cycle : summary.cycles)
       if (cycle.step)
+        steps.push_back(*cycle.step);
+    for (const StepRecord &step : steps)
         {
-          const StepRecord &step = *cycle.step;
           totals.steps                    = step.step;
           totals.largest_penetration      = std::max(totals.largest_penetration, step.penetration);
           totals.volume_change            = step.volume_change;
@@ -174,7 +176,14 @@ namespace dieflow
             << ", \"smallest_scaled_jacobian\": " << number(totals.smallest_scaled_jacobian)
             << ", \"faces_entered\": " << totals.faces_entered << ", \"faces_left\": " << totals.faces_left
             << ", \"remeshings\": " << totals.remeshings
-            << ", \"largest_remesh_volume_change\": " << number(totals.largest_remesh_volume_change) << "},\n";
+            << ", \"largest_remesh_volume_change\": " << number(totals.largest_remesh_volume_change);
+        if (!summary.restarted_from.empty())
+          out << ", \"restarted_from\": {\"file\": \"" << summary.restarted_from << "\", \"step\": " << summary.restart_step
+              << "}";
+        if (!summary.checkpoint_file.empty())
+          out << ", \"checkpoint\": {\"file\": \"" << summary.checkpoint_file << "\", \"step\": " << summary.checkpoint_step
+              << "}";
+        out << "},\n";
       }
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
         << "  \"threads\": " << summary.threads << ",\n"

@@ -167,6 +167,31 @@ namespace dieflow
           const bool                        keep_state,
           const std::vector<WallNode<dim>> &approaching = {});
 
+    /// What setup() maps from the previous mesh to a node's direction: its
+    /// state, found by position, die id and normal.
+    struct StateRecord
+    {
+      dealii::Point<dim>  position;
+      BoundaryId          id = 0;
+      Tensor<1, dim>      normal;
+      double              weight = 0;
+      bool                active = false;
+      ContactStatus       status = ContactStatus::separated;
+      std::vector<double> slip_direction;
+      double              normal_force = 0;
+    };
+    /// The states of the current nodes (a checkpoint's; the free surface's
+    /// approaching directions, which nothing inherits, left out).
+    std::vector<StateRecord>
+    state_records() const;
+    /// The states the next setup() with keep_state maps from, instead of
+    /// the current nodes' (a restart from a checkpoint).
+    void
+    restore_states(const std::vector<StateRecord> &records)
+    {
+      restored_states = records;
+    }
+
 
     /// eta_m, the viscosity scale of c, and lambda, the incompressibility
     /// penalty that omega_n and omega_t are multiples of.
@@ -353,6 +378,8 @@ namespace dieflow
     ContactParameters          parameters;
     std::map<BoundaryId, Tensor<1, dim>> die_velocity;
     std::vector<Node>          nodes;
+    /// restore_states()'s, for the next setup().
+    std::vector<StateRecord>   restored_states;
     double                     viscosity_scale = 1;
     double                     penalty_scale   = 1;
     /// v0 of the friction laws regularised because their states cycled.

@@ -60,6 +60,12 @@ namespace dieflow
     /// The facets of a surface given directly (tests; a moving die later).
     void
     set_facets(const std::vector<Facet> &facets);
+    /// The facets, where they are now (a checkpoint's).
+    const std::vector<Facet> &
+    all_facets() const
+    {
+      return facets;
+    }
 
     struct Match
     {

@@ -97,6 +97,20 @@ namespace dieflow
     void
     renumber_faces(const std::map<unsigned int, unsigned int> &new_face_of_old);
 
+    /// What a checkpoint keeps: the dies where they are, the faces' ids
+    /// before they came onto a die, the free ids and the tolerance.
+    struct State
+    {
+      std::map<BoundaryId, std::vector<typename DieSurface<dim>::Facet>> dies;
+      std::map<unsigned int, BoundaryId>                                 id_before;
+      std::set<BoundaryId>                                               free_ids;
+      double                                                             tolerance = 0;
+    };
+    State
+    state() const;
+    void
+    restore(const State &state);
+
     /// Moves die @p id by @p shift (Contact/Die velocities: V dt), before update().
     void
     translate(const BoundaryId id, const dealii::Tensor<1, dim> &shift);

@@ -99,6 +99,19 @@ namespace dieflow
     void
     keep(dealii::Triangulation<dim> &triangulation) const;
 
+    /// Per vertex index, the points and normals of its walls' planes (a checkpoint's).
+    using Planes = std::map<unsigned int, std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>>>;
+    const Planes &
+    all_planes() const
+    {
+      return planes;
+    }
+    void
+    set_planes(const Planes &kept)
+    {
+      planes = kept;
+    }
+
   private:
     /// Per vertex: a point of each wall plane it lies on, and the plane's unit normal.
     std::map<unsigned int, std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>>> planes;

@@ -224,6 +224,14 @@ namespace dieflow
     std::optional<bool> target_reached;
     std::string         target_quantity;
     double              target_error = 0;
+    /// Problem = incremental, gone on from a checkpoint: its file and step,
+    /// and the step records before it (for the run's totals).
+    std::string             restarted_from;
+    unsigned int            restart_step = 0;
+    std::vector<StepRecord> earlier_steps;
+    /// The last checkpoint written (checkpoint.h), and its step.
+    std::string  checkpoint_file;
+    unsigned int checkpoint_step = 0;
   };
 
   /**
