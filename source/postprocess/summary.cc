@@ -178,11 +178,11 @@ namespace dieflow
             << ", \"remeshings\": " << totals.remeshings
             << ", \"largest_remesh_volume_change\": " << number(totals.largest_remesh_volume_change);
         if (!summary.restarted_from.empty())
-          out << ", \"restarted_from\": {\"file\": \"" << summary.restarted_from << "\", \"step\": " << summary.restart_step
-              << "}";
+          out << ", \"restarted_from\": {\"file\": " << string(summary.restarted_from)
+              << ", \"step\": " << summary.restart_step << "}";
         if (!summary.checkpoint_file.empty())
-          out << ", \"checkpoint\": {\"file\": \"" << summary.checkpoint_file << "\", \"step\": " << summary.checkpoint_step
-              << "}";
+          out << ", \"checkpoint\": {\"file\": " << string(summary.checkpoint_file)
+              << ", \"step\": " << summary.checkpoint_step << "}";
         out << "},\n";
       }
     out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
