@@ -1516,9 +1516,9 @@ namespace dieflow
     dealii::DoFHandler<dim> fresh_dofs(fresh);
     fresh_dofs.distribute_dofs(fe);
     const auto at_new_nodes = [&](const Vector<double> &nodal) {
-      Vector<double> values(fresh_dofs.n_dofs());
       if (nodal.size() != dof_handler.n_dofs())
         return Vector<double>();
+      Vector<double>                                values(fresh_dofs.n_dofs());
       const dealii::Functions::FEFieldFunction<dim> field(dof_handler, nodal);
       dealii::VectorTools::interpolate(fresh_dofs, field, values);
       return values;

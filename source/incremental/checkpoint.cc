@@ -102,6 +102,15 @@ namespace dieflow
       });
     }
 
+    /// The dies where they are, the faces' ids before a die, the free ids, the tolerance.
+    template <int dim, class Archive>
+    void
+    serialize_gaps(Archive &ar, typename ContactGaps<dim>::State &state)
+    {
+      serialize_dies<dim>(ar, state.dies);
+      ar &state.id_before &state.free_ids &state.tolerance;
+    }
+
     template <class Archive>
     void
     serialize_step(Archive &ar, StepRecord &s)
@@ -142,8 +151,7 @@ namespace dieflow
       serialize_step(ar, last);
 
       typename ContactGaps<dim>::State gap_state = gaps.state();
-      serialize_dies<dim>(ar, gap_state.dies);
-      ar << gap_state.id_before << gap_state.free_ids << gap_state.tolerance;
+      serialize_gaps<dim>(ar, gap_state);
       std::map<BoundaryId, std::vector<typename DieSurface<dim>::Facet>> surfaces;
       for (const auto &[id, surface] : die_surfaces)
         surfaces[id] = surface.all_facets();
@@ -212,8 +220,7 @@ namespace dieflow
         last_remesh = last.remesh;
 
         typename ContactGaps<dim>::State gap_state;
-        serialize_dies<dim>(ar, gap_state.dies);
-        ar >> gap_state.id_before >> gap_state.free_ids >> gap_state.tolerance;
+        serialize_gaps<dim>(ar, gap_state);
         gaps.restore(gap_state);
         std::map<BoundaryId, std::vector<typename DieSurface<dim>::Facet>> surfaces;
         serialize_dies<dim>(ar, surfaces);

@@ -130,26 +130,27 @@ namespace dieflow
   StepTotals
   step_totals(const RunSummary &summary)
   {
-    StepTotals              totals;
-    std::vector<StepRecord> steps = summary.earlier_steps;
+    StepTotals totals;
+    const auto add = [&](const StepRecord &step) {
+      totals.steps                    = step.step;
+      totals.largest_penetration      = std::max(totals.largest_penetration, step.penetration);
+      totals.volume_change            = step.volume_change;
+      totals.smallest_scaled_jacobian = std::min(totals.smallest_scaled_jacobian, step.smallest_scaled_jacobian);
+      totals.faces_entered += step.faces_entered;
+      totals.faces_left += step.faces_left;
+      if (step.remesh)
+        {
+          ++totals.remeshings;
+          totals.largest_remesh_volume_change =
+            std::max(totals.largest_remesh_volume_change, std::abs(step.remesh->volume_change));
+        }
+    };
+    // A restarted run counts the steps before its checkpoint too.
+    for (const StepRecord &step : summary.earlier_steps)
+      add(step);
     for (const auto &cycle : summary.cycles)
       if (cycle.step)
-        steps.push_back(*cycle.step);
-    for (const StepRecord &step : steps)
-        {
-          totals.steps                    = step.step;
-          totals.largest_penetration      = std::max(totals.largest_penetration, step.penetration);
-          totals.volume_change            = step.volume_change;
-          totals.smallest_scaled_jacobian = std::min(totals.smallest_scaled_jacobian, step.smallest_scaled_jacobian);
-          totals.faces_entered += step.faces_entered;
-          totals.faces_left += step.faces_left;
-          if (step.remesh)
-            {
-              ++totals.remeshings;
-              totals.largest_remesh_volume_change =
-                std::max(totals.largest_remesh_volume_change, std::abs(step.remesh->volume_change));
-            }
-        }
+        add(*cycle.step);
     return totals;
   }
 
@@ -288,24 +289,23 @@ namespace dieflow
             << "      \"stick_slip_changes\": " << vector(tangential_changes) << ",\n"
             << "      \"wall_time\": " << number(s.wall_time);
         if (s.step)
-          out << ",\n      \"step\": {\"step\": " << s.step->step << ", \"time\": " << number(s.step->time)
-              << ", \"stroke\": " << number(s.step->stroke) << ", \"volume\": " << number(s.step->volume)
-              << ", \"volume_change\": " << number(s.step->volume_change)
-              << ", \"smallest_scaled_jacobian\": " << number(s.step->smallest_scaled_jacobian)
-              << ", \"faces_entered\": " << s.step->faces_entered << ", \"faces_left\": " << s.step->faces_left
-              << ", \"penetration\": " << number(s.step->penetration)
-              << ", \"mean_equivalent_strain\": " << number(s.step->mean_strain)
-              << ", \"max_equivalent_strain\": " << number(s.step->max_strain);
-        if (s.step && s.step->remesh)
           {
-            const RemeshRecord &r = *s.step->remesh;
-            out << ", \"new_mesh\": {\"cells_before\": " << r.cells_before << ", \"cells_after\": " << r.cells_after
-                << ", \"smallest_scaled_jacobian_before\": " << number(r.jacobian_before)
-                << ", \"smallest_scaled_jacobian_after\": " << number(r.jacobian_after)
-                << ", \"volume_change\": " << number(r.volume_change) << ", \"split_edges\": " << r.split_edges << "}";
+            out << ",\n      \"step\": {\"step\": " << s.step->step << ", \"time\": " << number(s.step->time)
+                << ", \"stroke\": " << number(s.step->stroke) << ", \"volume\": " << number(s.step->volume)
+                << ", \"volume_change\": " << number(s.step->volume_change)
+                << ", \"smallest_scaled_jacobian\": " << number(s.step->smallest_scaled_jacobian)
+                << ", \"faces_entered\": " << s.step->faces_entered << ", \"faces_left\": " << s.step->faces_left
+                << ", \"penetration\": " << number(s.step->penetration)
+                << ", \"mean_equivalent_strain\": " << number(s.step->mean_strain)
+                << ", \"max_equivalent_strain\": " << number(s.step->max_strain);
+            if (const auto &r = s.step->remesh)
+              out << ", \"new_mesh\": {\"cells_before\": " << r->cells_before << ", \"cells_after\": " << r->cells_after
+                  << ", \"smallest_scaled_jacobian_before\": " << number(r->jacobian_before)
+                  << ", \"smallest_scaled_jacobian_after\": " << number(r->jacobian_after)
+                  << ", \"volume_change\": " << number(r->volume_change) << ", \"split_edges\": " << r->split_edges
+                  << "}";
+            out << "}";
           }
-        if (s.step)
-          out << "}";
         out << "\n    }";
       }
     out << "\n  ]\n}\n";
