@@ -10,6 +10,7 @@
 #include <dieflow/postprocess/goal_estimate.h>
 #include <dieflow/threads.h>
 
+#include <algorithm>
 #include <limits>
 
 #include <deal.II/base/timer.h>
@@ -212,10 +213,12 @@ namespace dieflow
     make_mesh(mesh_parameters, triangulation);
     // In time, a die given as a surface may have no face of the metal on it
     // yet: the metal comes onto it.
-    auto in_mesh = assigned;
+    auto                           in_mesh  = assigned;
+    const std::vector<BoundaryId> &mesh_ids = triangulation.get_boundary_ids();
     if (time_stepping.incremental)
       for (const auto &[id, file] : contact_parameters.die_surface_files)
-        in_mesh.erase(id);
+        if (std::find(mesh_ids.begin(), mesh_ids.end(), id) == mesh_ids.end())
+          in_mesh.erase(id);
     check_boundary_ids(triangulation, in_mesh);
     if (coordinates.axisymmetric())
       check_axisymmetric_mesh(triangulation, boundary_conditions.symmetry_ids);
@@ -311,7 +314,14 @@ namespace dieflow
     std::set<BoundaryId> walls = boundary_conditions.wall_ids();
     walls.insert(contact_parameters.die_ids.begin(), contact_parameters.die_ids.end());
     wall_nodes = collect_wall_nodes(coordinates, dof_handler, walls, hanging_node_constraints, boundary_conditions.corner_angle);
-    attach_die_surfaces(die_surfaces, boundary_conditions.corner_angle, wall_nodes);
+    attach_die_surfaces(die_surfaces, boundary_conditions.corner_angle, time_stepping.incremental, wall_nodes);
+    if (const auto [reach, gap_rate] = gap_closing(); reach >= 0 && !die_surfaces.empty())
+      {
+        std::set<BoundaryId> given;
+        for (const auto &[id, surface] : die_surfaces)
+          given.insert(id);
+        gaps.close_gaps(wall_nodes, given, reach, std::cos(boundary_conditions.corner_angle * dealii::numbers::PI / 180.), gap_rate);
+      }
     if (!time_stepping.incremental)
       check_steady_die_motion();
     if (!contact.empty())
@@ -395,17 +405,9 @@ namespace dieflow
   std::vector<WallNode<dim>>
   DieFlowProblem<dim>::approaching_nodes() const
   {
-    if (!time_stepping.incremental || !time_stepping.contact_within_step || gaps.empty() ||
-        current_step >= time_stepping.n_steps())
+    const auto [reach, gap_rate] = gap_closing();
+    if (reach < 0)
       return {};
-    const double dt = time_stepping.time(current_step + 1) - time_stepping.time(current_step);
-    // Reach: twice the largest travel of the step (the previous step's
-    // speed, the dies'); a node farther off cannot arrive, and the after-
-    // the-move rule of ContactGaps::update() still catches one that does.
-    const bool   have_velocity = velocity.size() == dof_handler.n_dofs();
-    double       speed         = have_velocity ? velocity.linfty_norm() : 0.;
-    for (const auto &[id, components] : contact_parameters.die_velocities)
-      speed = std::max(speed, contact.velocity_of(id).norm());
     // Nodes of a die face are the die's already; one on a symmetry plane or
     // slip wall keeps that wall (ContactSet: a fixed normal).
     std::set<GlobalDof>                        on_die;
@@ -422,22 +424,42 @@ namespace dieflow
                                          hanging_node_constraints, boundary_conditions.corner_angle))
       if (!on_die.count(node.dofs[0]))
         free_nodes.push_back(std::move(node));
+    std::vector<WallNode<dim>> approaching = gaps.approaching(free_nodes, reach, gap_rate);
+    for (auto &node : approaching)
+      if (const auto wall = on_wall.find(node.dofs[0]); wall != on_wall.end())
+        node.directions.insert(node.directions.end(), wall->second->directions.begin(), wall->second->directions.end());
+    return approaching;
+  }
+
+
+
+  template <int dim>
+  std::pair<double, typename ContactGaps<dim>::GapRate>
+  DieFlowProblem<dim>::gap_closing() const
+  {
+    if (!time_stepping.incremental || !time_stepping.contact_within_step || gaps.empty() ||
+        current_step >= time_stepping.n_steps())
+      return {-1., {}};
+    const double dt = time_stepping.time(current_step + 1) - time_stepping.time(current_step);
+    // Reach: twice the largest travel of the step (the previous step's
+    // speed, the dies'); a node farther off cannot arrive, and the after-
+    // the-move rule of ContactGaps::update() still catches one that does.
+    const bool have_velocity = velocity.size() == dof_handler.n_dofs();
+    double     speed         = have_velocity ? velocity.linfty_norm() : 0.;
+    for (const auto &[id, components] : contact_parameters.die_velocities)
+      speed = std::max(speed, contact.velocity_of(id).norm());
     // The move will be x += a v_n + b v_{n-1} (advance_configuration()): the
     // node lands on the die where a (v_n - V).n + b (v_{n-1} - V).n = g,
     // i.e. (v_n - V).n = (g - b (v_{n-1} - V).n) / a (a + b = dt).
     const auto [a, b] = move_weights(current_step);
-    const auto gap_rate = [&](const WallNode<dim> &node, const WallDirection<dim> &direction, const double gap) {
+    const auto gap_rate = [this, a = a, b = b](const WallNode<dim> &node, const WallDirection<dim> &direction, const double gap) {
       double previous_rate = 0;
       if (b != 0)
         for (unsigned int d = 0; d < dim; ++d)
           previous_rate += (previous_velocity[node.dofs[d]] - contact.velocity_of(direction.id)[d]) * direction.normal[d];
       return (gap - b * previous_rate) / a;
     };
-    std::vector<WallNode<dim>> approaching = gaps.approaching(free_nodes, 2 * speed * dt, gap_rate);
-    for (auto &node : approaching)
-      if (const auto wall = on_wall.find(node.dofs[0]); wall != on_wall.end())
-        node.directions.insert(node.directions.end(), wall->second->directions.begin(), wall->second->directions.end());
-    return approaching;
+    return {2 * speed * dt, gap_rate};
   }
 
 
@@ -1442,6 +1464,13 @@ namespace dieflow
         const auto status = contact.vertex_status(dof_handler);
         for (unsigned int i = 0; i < status.size(); ++i)
           in_contact[i] = status[i] > static_cast<double>(ContactStatus::separated);
+        // Put back only where every die direction holds the node: a corner
+        // of the metal that leaves one wall of a die corner (past the exit
+        // D, along the die face) is not to be pulled onto the other wall
+        // (the land), which would cut the corner through the die.
+        for (const auto &r : contact.results(velocity))
+          if (r.vertex != dealii::numbers::invalid_unsigned_int && r.status == ContactStatus::separated)
+            in_contact[r.vertex] = false;
       }
     move_vertices(dof_handler, displacement, triangulation);
     fixed_walls.keep(triangulation);
@@ -1509,7 +1538,7 @@ namespace dieflow
     record.jacobian_before          = smallest_scaled_jacobian(triangulation);
     const double volume_before      = domain_volume(coordinates, triangulation);
     dealii::Triangulation<dim> fresh;
-    const NewMesh new_mesh = remesh_domain(triangulation, fresh, "Incremental/Remesh below Jacobian");
+    const NewMesh new_mesh = remesh_domain(triangulation, fresh, remeshing.boundary_edge_length, "Incremental/Remesh below Jacobian");
 
     // The velocity at the new mesh's nodes (the next solve's first iterate),
     // and the strain at its cell centres: the old cell there gives its value.

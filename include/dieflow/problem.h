@@ -243,6 +243,12 @@ namespace dieflow
     /// (ContactGaps::approaching(); empty in a steady run and at the last step).
     std::vector<WallNode<dim>>
     approaching_nodes() const;
+    /// How far a node may travel in the current step (twice the largest
+    /// speed times dt) and the gap rate at which it closes a gap g by the
+    /// end of it (the integrator's move; for ContactGaps); a reach of -1
+    /// where there is none (a steady run, the last step, no dies in time).
+    std::pair<double, typename ContactGaps<dim>::GapRate>
+    gap_closing() const;
     /// Refuses a die that moves across its own surface in a steady run.
     void
     check_steady_die_motion() const;

@@ -70,6 +70,29 @@ namespace dieflow
     {
       return insideness<dim>(vertices, x) * std::sqrt(facet_measure<dim>(vertices)) >= -tolerance;
     }
+
+    /// A direction of @p node off its die (@p off_die) joins a direction of
+    /// the same die that is on it, if the node has one: the metal's corner
+    /// that slid past the die's corner lies on one wall now.
+    template <int dim>
+    void
+    join_directions_off_the_die(const std::vector<bool> &off_die, WallNode<dim> &node)
+    {
+      std::vector<bool> joined(node.directions.size(), false);
+      for (unsigned int k = 0; k < node.directions.size(); ++k)
+        for (unsigned int j = 0; j < node.directions.size() && off_die[k] && !joined[k]; ++j)
+          if (!off_die[j] && node.directions[j].id == node.directions[k].id)
+            {
+              node.directions[j].weight += node.directions[k].weight;
+              node.directions[j].length += node.directions[k].length;
+              joined[k] = true;
+            }
+      std::vector<WallDirection<dim>> kept;
+      for (unsigned int k = 0; k < node.directions.size(); ++k)
+        if (!joined[k])
+          kept.push_back(node.directions[k]);
+      node.directions = kept;
+    }
   } // namespace
 
 
@@ -239,30 +262,42 @@ namespace dieflow
   void
   attach_die_surfaces(const std::map<BoundaryId, DieSurface<dim>> &surfaces,
                       const double                                 corner_angle_degrees,
+                      const bool                                   in_time,
                       std::vector<WallNode<dim>> &                 wall_nodes)
   {
     const double cos_corner = std::cos(corner_angle_degrees * dealii::numbers::PI / 180.);
     for (auto &node : wall_nodes)
-      for (auto &direction : node.directions)
-        {
-          const auto surface = surfaces.find(direction.id);
-          if (surface == surfaces.end())
-            continue;
-          const double tolerance = 1e-6 * surface->second.diameter();
-          const auto   match     = surface->second.find(node.position, direction.normal, tolerance, cos_corner);
-          if (!match)
-            {
-              std::ostringstream message;
-              message.precision(6);
-              message << "the metal's wall node at (" << node.position << ") of boundary id " << direction.id
-                      << " lies on no facet of its die surface with a normal within " << corner_angle_degrees
-                      << " degrees of the wall's (tolerance " << tolerance
-                      << " mm): in a steady run the metal's die boundary must lie on the die surface";
-              throw InputError("Contact/Die surfaces: " + message.str());
-            }
-          direction.facet  = match->facet.vertices;
-          direction.normal = match->facet.normal;
-        }
+      {
+        std::vector<bool> off_die(node.directions.size(), false);
+        for (unsigned int k = 0; k < node.directions.size(); ++k)
+          {
+            auto &     direction = node.directions[k];
+            const auto surface   = surfaces.find(direction.id);
+            if (surface == surfaces.end())
+              continue;
+            const double tolerance = 1e-6 * surface->second.diameter();
+            const auto   match     = surface->second.find(node.position, direction.normal, tolerance, cos_corner);
+            if (match)
+              {
+                direction.facet  = match->facet.vertices;
+                direction.normal = match->facet.normal;
+                continue;
+              }
+            if (in_time)
+              {
+                off_die[k] = true;
+                continue;
+              }
+            std::ostringstream message;
+            message.precision(6);
+            message << "the metal's wall node at (" << node.position << ") of boundary id " << direction.id
+                    << " lies on no facet of its die surface with a normal within " << corner_angle_degrees
+                    << " degrees of the wall's (tolerance " << tolerance
+                    << " mm): in a steady run the metal's die boundary must lie on the die surface";
+            throw InputError("Contact/Die surfaces: " + message.str());
+          }
+        join_directions_off_the_die(off_die, node);
+      }
   }
 
 
@@ -270,7 +305,7 @@ namespace dieflow
   template class DieSurface<2>;
   template class DieSurface<3>;
   template void
-  attach_die_surfaces<2>(const std::map<BoundaryId, DieSurface<2>> &, const double, std::vector<WallNode<2>> &);
+  attach_die_surfaces<2>(const std::map<BoundaryId, DieSurface<2>> &, const double, const bool, std::vector<WallNode<2>> &);
   template void
-  attach_die_surfaces<3>(const std::map<BoundaryId, DieSurface<3>> &, const double, std::vector<WallNode<3>> &);
+  attach_die_surfaces<3>(const std::map<BoundaryId, DieSurface<3>> &, const double, const bool, std::vector<WallNode<3>> &);
 } // namespace dieflow

@@ -76,10 +76,9 @@ namespace dieflow
 
   template <int dim>
   std::vector<WallNode<dim>>
-  ContactGaps<dim>::approaching(
-    const std::vector<WallNode<dim>> &                                                        free_nodes,
-    const double                                                                              reach,
-    const std::function<double(const WallNode<dim> &, const WallDirection<dim> &, double)> &gap_rate) const
+  ContactGaps<dim>::approaching(const std::vector<WallNode<dim>> &free_nodes,
+                                const double                      reach,
+                                const GapRate &                   gap_rate) const
   {
     std::vector<WallNode<dim>> result;
     for (const auto &free_node : free_nodes)
@@ -112,6 +111,32 @@ namespace dieflow
           result.push_back(node);
       }
     return result;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactGaps<dim>::close_gaps(std::vector<WallNode<dim>> &wall_nodes,
+                               const std::set<BoundaryId> &ids,
+                               const double                reach,
+                               const double                cos_corner,
+                               const GapRate &             gap_rate) const
+  {
+    for (auto &node : wall_nodes)
+      for (auto &direction : node.directions)
+        {
+          const auto die = dies.find(direction.id);
+          if (!ids.count(direction.id) || die == dies.end())
+            continue;
+          const auto on = die->second.project(node.position, reach, tolerance);
+          if (!on || on->distance <= tolerance || std::abs(on->facet.normal * direction.normal) < cos_corner)
+            continue;
+          const Tensor<1, dim> normal = on->facet.normal * direction.normal > 0 ? on->facet.normal : -on->facet.normal;
+          direction.normal            = normal;
+          direction.facet             = on->facet.vertices;
+          direction.gap_rate          = gap_rate(node, direction, (on->point - node.position) * normal);
+        }
   }
 
 

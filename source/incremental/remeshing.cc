@@ -28,6 +28,14 @@ namespace dieflow
                       dealii::Patterns::Integer(0),
                       "Also mesh the domain anew every this many steps since the last "
                       "new mesh; 0: only by Remesh below Jacobian.");
+    prm.declare_entry("Remesh boundary edge length",
+                      "0",
+                      dealii::Patterns::Double(0),
+                      "In a new mesh, cut every boundary edge longer than this (mm) into "
+                      "equal pieces on it, no longer than it; 0: the boundary's edges as "
+                      "they are. Where metal flows out of a die its surface stretches by "
+                      "the reduction (an extrudate's edges grow 4x through die2d), and the "
+                      "new mesh's cells take their size from the boundary's edges.");
   }
 
 
@@ -36,7 +44,8 @@ namespace dieflow
   RemeshingParameters::parse_parameters(ParameterHandler &prm)
   {
     jacobian_threshold = prm.get_double("Remesh below Jacobian");
-    interval           = prm.get_integer("Remesh interval");
+    interval             = prm.get_integer("Remesh interval");
+    boundary_edge_length = prm.get_double("Remesh boundary edge length");
   }
 
 
@@ -143,6 +152,8 @@ namespace dieflow
     struct BoundaryGroup
     {
       std::vector<BoundaryEdge> edges;
+      /// Gmsh's segments on the line (more than one: a long edge cut).
+      unsigned int              segments = 1;
       unsigned int
       first() const
       {
@@ -156,10 +167,15 @@ namespace dieflow
     };
 
     /// Pairs the edges of @p loop where their middle vertex is near the
-    /// chord's midpoint (within a fifth of the chord) and both have one id.
+    /// chord's midpoint (within a fifth of the chord), both have one id and
+    /// neither is longer than @p longest_edge (0: no limit); an edge longer
+    /// than that gets as many Gmsh segments as, halved, make it no longer.
     std::vector<BoundaryGroup>
-    group_edges(const std::vector<dealii::Point<2>> &x, const std::vector<BoundaryEdge> &loop)
+    group_edges(const std::vector<dealii::Point<2>> &x, const std::vector<BoundaryEdge> &loop, const double longest_edge)
     {
+      const auto too_long = [&](const BoundaryEdge &e) {
+        return longest_edge > 0 && x[e.a].distance(x[e.b]) > longest_edge;
+      };
       const unsigned int n = loop.size();
       // Start where the id changes (a pair never straddles it), if anywhere.
       unsigned int start = 0;
@@ -177,21 +193,27 @@ namespace dieflow
             {
               const BoundaryEdge &f     = loop[(start + j + 1) % n];
               const double        chord = x[e.a].distance(x[f.b]);
-              if (e.id == f.id && x[e.b].distance(0.5 * (x[e.a] + x[f.b])) <= 0.2 * chord)
+              if (e.id == f.id && !too_long(e) && !too_long(f) &&
+                  x[e.b].distance(0.5 * (x[e.a] + x[f.b])) <= 0.2 * chord)
                 {
                   groups.push_back({{e, f}});
                   j += 2;
                   continue;
                 }
             }
-          groups.push_back({{e}});
+          const unsigned int segments =
+            too_long(e) ? static_cast<unsigned int>(std::ceil(x[e.a].distance(x[e.b]) / (2 * longest_edge))) : 1;
+          groups.push_back({{e}, segments});
           ++j;
         }
       return groups;
     }
 
     NewMesh
-    remesh_polygon(const dealii::Triangulation<2> &old, dealii::Triangulation<2> &fresh, const std::string &entry)
+    remesh_polygon(const dealii::Triangulation<2> &old,
+                   dealii::Triangulation<2> &      fresh,
+                   const double                    longest_edge,
+                   const std::string &             entry)
     {
       const std::vector<dealii::Point<2>>    x     = old.get_vertices();
       std::vector<std::vector<BoundaryEdge>> loops = boundary_loops(old, entry);
@@ -210,12 +232,14 @@ namespace dieflow
       std::vector<int>             wires;
       for (const auto &loop : loops)
         {
-          const std::vector<BoundaryGroup> groups = group_edges(x, loop);
+          const std::vector<BoundaryGroup> groups = group_edges(x, loop, longest_edge);
           const unsigned int               n      = groups.size();
-          // Gmsh's cell size at a point: the mean length of its two lines, a
-          // single edge's counted twice (its halves are the mesh's edges).
+          // Gmsh's cell size at a point: the mean length of its two lines'
+          // segments, a single edge's counted twice (its halves are the
+          // mesh's edges); a long edge cut: its segments.
           const auto size = [&](const BoundaryGroup &g) {
-            return x[g.first()].distance(x[g.last()]) * (g.edges.size() == 1 ? 2. : 1.);
+            const double length = x[g.first()].distance(x[g.last()]);
+            return g.segments > 1 ? length / g.segments : length * (g.edges.size() == 1 ? 2. : 1.);
           };
           std::vector<int> points(n), lines(n);
           for (unsigned int k = 0; k < n; ++k)
@@ -235,7 +259,7 @@ namespace dieflow
       const int surface = gmsh::model::geo::addPlaneSurface(wires);
       gmsh::model::geo::synchronize();
       for (const auto &[line, group] : group_of_line)
-        gmsh::model::mesh::setTransfiniteCurve(line, 2);
+        gmsh::model::mesh::setTransfiniteCurve(line, group.segments + 1);
       gmsh::model::mesh::setRecombine(2, surface);
       gmsh::option::setNumber("Mesh.Algorithm", 6);              // Frontal-Delaunay
       gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1); // Blossom
@@ -254,13 +278,23 @@ namespace dieflow
       for (unsigned int i = 0; i < tags.size(); ++i)
         if (vertex_of_node.emplace(tags[i], points.size()).second)
           points.emplace_back(coordinates[3 * i], coordinates[3 * i + 1]);
-      const auto node_on = [&](const int dim, const int tag) {
+      // The nodes inside a point (one) or a line, in order along @p direction.
+      const auto nodes_on = [&](const int dim, const int tag, const std::size_t expected,
+                                const dealii::Tensor<1, 2> &direction = {}) {
         std::vector<std::size_t> on;
         std::vector<double>      c, p;
         gmsh::model::mesh::getNodes(on, c, p, dim, tag, false, false);
-        require(on.size() == 1, entry, "Gmsh's mesh does not have the old boundary");
-        return vertex_of_node.at(on[0]);
+        require(on.size() == expected, entry, "Gmsh's mesh does not have the old boundary");
+        std::vector<std::pair<double, unsigned int>> ordered;
+        for (unsigned int i = 0; i < on.size(); ++i)
+          ordered.emplace_back(c[3 * i] * direction[0] + c[3 * i + 1] * direction[1], vertex_of_node.at(on[i]));
+        std::sort(ordered.begin(), ordered.end());
+        std::vector<unsigned int> vertices;
+        for (const auto &o : ordered)
+          vertices.push_back(o.second);
+        return vertices;
       };
+      const auto node_on = [&](const int dim, const int tag) { return nodes_on(dim, tag, 1)[0]; };
       std::map<int, unsigned int> new_vertex_of_point;
       for (const auto &[point, vertex] : vertex_of_point)
         {
@@ -280,8 +314,22 @@ namespace dieflow
       };
       for (const auto &[line, group] : group_of_line)
         {
-          const unsigned int a   = new_vertex_of_point.at(ends_of_line.at(line).first);
-          const unsigned int b   = new_vertex_of_point.at(ends_of_line.at(line).second);
+          const unsigned int a = new_vertex_of_point.at(ends_of_line.at(line).first);
+          const unsigned int b = new_vertex_of_point.at(ends_of_line.at(line).second);
+          if (group.segments > 1)
+            {
+              // Gmsh's segments are equal, and so its halves: the nodes go exactly onto the edge.
+              std::vector<unsigned int> chain =
+                nodes_on(1, line, 2 * group.segments - 1, x[group.last()] - x[group.first()]);
+              for (unsigned int i = 0; i < chain.size(); ++i)
+                points[chain[i]] = x[group.first()] + (i + 1.) / (chain.size() + 1.) * (x[group.last()] - x[group.first()]);
+              chain.insert(chain.begin(), a);
+              chain.push_back(b);
+              for (unsigned int i = 0; i + 1 < chain.size(); ++i)
+                add_face(chain[i], chain[i + 1], group.edges[0].id, dealii::numbers::invalid_unsigned_int);
+              ++result.split_edges;
+              continue;
+            }
           const unsigned int mid = node_on(1, line);
           if (group.edges.size() == 2)
             {
@@ -335,13 +383,16 @@ namespace dieflow
 
   template <int dim>
   NewMesh
-  remesh_domain(const dealii::Triangulation<dim> &old, dealii::Triangulation<dim> &fresh, const std::string &entry)
+  remesh_domain(const dealii::Triangulation<dim> &old,
+                dealii::Triangulation<dim> &      fresh,
+                const double                      longest_edge,
+                const std::string &               entry)
   {
     if constexpr (dim == 2)
       {
         try
           {
-            return remesh_polygon(old, fresh, entry);
+            return remesh_polygon(old, fresh, longest_edge, entry);
           }
         catch (const std::string &gmsh_error)
           {
@@ -352,12 +403,13 @@ namespace dieflow
       {
         (void)old;
         (void)fresh;
+        (void)longest_edge;
         throw InputError(entry + ": meshing the domain anew is available in 2D only (plane strain, axisymmetric)");
       }
   }
 
   template NewMesh
-  remesh_domain(const dealii::Triangulation<2> &, dealii::Triangulation<2> &, const std::string &);
+  remesh_domain(const dealii::Triangulation<2> &, dealii::Triangulation<2> &, const double, const std::string &);
   template NewMesh
-  remesh_domain(const dealii::Triangulation<3> &, dealii::Triangulation<3> &, const std::string &);
+  remesh_domain(const dealii::Triangulation<3> &, dealii::Triangulation<3> &, const double, const std::string &);
 } // namespace dieflow

@@ -120,6 +120,7 @@ namespace
             cycle["remeshed"]            = s.step->remesh.has_value();
             cycle["remesh_volume_change"] = s.step->remesh ? s.step->remesh->volume_change : 0.;
             cycle["jacobian_after_remesh"] = s.step->remesh ? s.step->remesh->jacobian_after : nan;
+            cycle["split_edges"]          = s.step->remesh ? s.step->remesh->split_edges : 0.;
           }
         if (c > 0 && s.velocity_l2_error)
           {

@@ -168,11 +168,21 @@ namespace dieflow
    * run the metal's die boundary must lie on the die: a node farther from
    * every facet of matching normal than 1e-6 of the surface's diameter is
    * an input error that names the node and the distance.
+   *
+   * In time (@p in_time) the metal moves over the die, and a node of a die
+   * face may be off it: a corner node of the metal that slid past a corner
+   * of the die (the exit D) lies on one of its walls only, so its other
+   * direction joins the one on the die (weights and lengths added: the
+   * node is on one wall now); a node off every facet (it separated, or slid
+   * past the die's end) keeps the facet and normal of the metal's own face,
+   * as a die made of the metal's faces does, and ContactGaps decides when
+   * its face leaves the die.
    */
   template <int dim>
   void
   attach_die_surfaces(const std::map<BoundaryId, DieSurface<dim>> &surfaces,
                       const double                                 corner_angle_degrees,
+                      const bool                                   in_time,
                       std::vector<WallNode<dim>> &                 wall_nodes);
 
 } // namespace dieflow

@@ -56,6 +56,10 @@ namespace dieflow
   class ContactGaps
   {
   public:
+    /// The gap rate (v - V).n at which a node's direction closes the gap g
+    /// by the end of the step: gap_rate(node, direction, g).
+    using GapRate = std::function<double(const WallNode<dim> &, const WallDirection<dim> &, double)>;
+
     void
     initialize(const dealii::Triangulation<dim> &           triangulation,
                const std::set<BoundaryId> &                  die_ids,
@@ -88,9 +92,25 @@ namespace dieflow
      * (ContactSet::setup()).
      */
     std::vector<WallNode<dim>>
-    approaching(const std::vector<WallNode<dim>> &free_nodes,
-                const double                      reach,
-                const std::function<double(const WallNode<dim> &, const WallDirection<dim> &, double)> &gap_rate) const;
+    approaching(const std::vector<WallNode<dim>> &free_nodes, const double reach, const GapRate &gap_rate) const;
+
+    /**
+     * The nodes of die faces that are off their die (of @p ids: the dies
+     * given as Contact/Die surfaces): a node that separated, or a corner of
+     * the metal that slid past a corner of the die, stands at a gap g from
+     * the facet under it (within @p reach, its normal within the corner
+     * angle, @p cos_corner, of the wall's), not on it. Its direction takes
+     * that facet and normal and the gap rate at which it closes the gap by
+     * the end of the step, as approaching() does for the free surface: the
+     * active set then holds it to arrive on the die, not to stay at the gap
+     * (or, for a node that went into it, to come back out onto it).
+     */
+    void
+    close_gaps(std::vector<WallNode<dim>> &wall_nodes,
+               const std::set<BoundaryId> &ids,
+               const double                reach,
+               const double                cos_corner,
+               const GapRate &             gap_rate) const;
 
     /// After the domain was meshed anew (remesh_domain()): the faces that
     /// came onto a die remember their id before under their new index.

@@ -22,6 +22,9 @@ namespace dieflow
     double       jacobian_threshold = 0;
     /// Remesh every this many steps as well (0: only by the Jacobian).
     unsigned int interval = 0;
+    /// The longest boundary edge of a new mesh (mm; 0: the boundary's edges
+    /// as they are). The extrudate's edges stretch with the reduction.
+    double       boundary_edge_length = 0;
 
     /// Declares the entries in the current subsection (Incremental).
     static void
@@ -56,7 +59,8 @@ namespace dieflow
     /// Old boundary face index -> the new mesh's face on the same edge (an
     /// edge split in two to make a loop's edge count even has none).
     std::map<unsigned int, unsigned int> boundary_face_of_old;
-    /// Boundary edges split at their midpoints (edges without a partner, see remesh_domain()).
+    /// Boundary edges cut into pieces (edges without a partner, at their
+    /// midpoints, and edges longer than the limit; see remesh_domain()).
     unsigned int split_edges = 0;
   };
 
@@ -79,16 +83,23 @@ namespace dieflow
    * lies within a fifth of the chord from its midpoint are one line a-b,
    * whose midpoint node is then put back at m; an edge that has no such
    * partner is a line of its own, and is split at its midpoint (on the
-   * edge: the domain is the same; NewMesh::split_edges). The cell size at
-   * each point is the mean length of its two lines, which Gmsh interpolates
-   * inside. Cells take the material id of @p old's first cell.
+   * edge: the domain is the same; NewMesh::split_edges). An edge longer
+   * than @p longest_edge (if not 0) is never paired and is cut into equal
+   * pieces no longer than it, on itself (the material's boundary stretches
+   * where it flows out of a die: an extrudate's edges grow with the
+   * reduction). The cell size at each point is the mean length of its two
+   * lines, which Gmsh interpolates inside. Cells take the material id of
+   * @p old's first cell.
    *
    * Throws InputError naming @p entry if Gmsh fails or its mesh is not the
    * old boundary's.
    */
   template <int dim>
   NewMesh
-  remesh_domain(const dealii::Triangulation<dim> &old, dealii::Triangulation<dim> &fresh, const std::string &entry);
+  remesh_domain(const dealii::Triangulation<dim> &old,
+                dealii::Triangulation<dim> &      fresh,
+                const double                      longest_edge,
+                const std::string &               entry);
 } // namespace dieflow
 
 #endif
