@@ -141,3 +141,40 @@ splot '$work/upsetting/solution-50.gnuplot' using 2:1:(0) with lines lc rgb '#40
 unset multiplot
 GP
 echo "wrote doc/images/upsetting-load-stroke.png"
+
+# The start of the die2d extrusion (doc/incremental.md): the ram force per
+# step against the stroke, with the steady run's limit (N0, degree 2 on 64
+# cells across: 2289 N/mm; the limit about 2265-2289), and the mesh at the
+# end.
+sed -e "s|^set Output directory.*|set Output directory = $work/extrusion|" \
+    -e "s|^set Write VTU .*|set Write VTU = false\nset Write gnuplot = true|" \
+    -e "s|die2d-die-face-land.msh|$PWD/parameters/die2d-die-face-land.msh|" \
+    parameters/extrusion-start.prm > "$work/extrusion.prm"
+$program "$work/extrusion.prm" > /dev/null
+gnuplot <<GP
+set terminal pngcairo size 1300,520 font "sans,11"
+set output 'doc/images/extrusion-start-load-stroke.png'
+set multiplot layout 1,2
+set title 'ram force per step (parameters/extrusion-start.prm, frictionless)'
+set xlabel 'ram stroke (mm)'
+set ylabel 'ram force F_x[1] (N/mm)'
+set yrange [0:3000]
+set key bottom right
+plot '$work/extrusion/load-stroke.txt' using 3:4 with linespoints pt 7 ps 0.5 title 'in time (the front leaves the land at 3.8 mm)', \
+     2289 with lines dt 2 lw 2 title 'steady run, degree 2, 64 cells across'
+set title 'the mesh at the end (stroke 7.6 mm); the die face and land in red'
+set xlabel 'x (mm)'
+set ylabel 'y (mm)'
+set xrange [-8:40]
+set yrange [0:20]
+set size ratio -1
+unset key
+plot '$work/extrusion/solution-100.gnuplot' using 1:2 with lines lc rgb '#404040', \
+     '-' using 1:2 with lines lw 3 lc rgb 'red'
+0 19
+5.186575838293384 4.75
+20.186575838293384 4.75
+e
+unset multiplot
+GP
+echo "wrote doc/images/extrusion-start-load-stroke.png"

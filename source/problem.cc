@@ -315,8 +315,15 @@ namespace dieflow
     walls.insert(contact_parameters.die_ids.begin(), contact_parameters.die_ids.end());
     wall_nodes = collect_wall_nodes(coordinates, dof_handler, walls, hanging_node_constraints, boundary_conditions.corner_angle);
     attach_die_surfaces(die_surfaces, boundary_conditions.corner_angle, time_stepping.incremental, wall_nodes);
-    if (const auto [reach, gap_rate] = gap_closing(); reach >= 0 && !die_surfaces.empty())
+    if (time_stepping.incremental && !die_surfaces.empty() && !gaps.empty())
       {
+        auto [reach, gap_rate] = gap_closing();
+        // The last step: no move follows, a node off the die is free.
+        if (reach < 0)
+          {
+            reach    = 0;
+            gap_rate = [](const WallNode<dim> &, const WallDirection<dim> &, const double) { return 0.; };
+          }
         std::set<BoundaryId> given;
         for (const auto &[id, surface] : die_surfaces)
           given.insert(id);
@@ -1538,7 +1545,26 @@ namespace dieflow
     record.jacobian_before          = smallest_scaled_jacobian(triangulation);
     const double volume_before      = domain_volume(coordinates, triangulation);
     dealii::Triangulation<dim> fresh;
-    const NewMesh new_mesh = remesh_domain(triangulation, fresh, remeshing.boundary_edge_length, "Incremental/Remesh below Jacobian");
+    // A die face's edge that cuts a die's corner (from the die face to the
+    // land past the exit D) lies in the die: pieces of it would be nodes in
+    // the die. Such an edge (its midpoint beyond the die's surface, seen
+    // from the metal: a, b go round the domain counter-clockwise) stays
+    // whole; dies given as a surface.
+    const EdgeFilter<dim> edge_out_of_its_die = [this](const Point<dim> &a, const Point<dim> &b, const BoundaryId id) {
+      const auto die = die_surfaces.find(id);
+      if constexpr (dim == 2)
+        if (die != die_surfaces.end())
+          {
+            const double         tolerance = 1e-6 * die->second.diameter();
+            const Point<dim>     middle    = 0.5 * (a + b);
+            const Tensor<1, dim> outward({b[1] - a[1], a[0] - b[0]});
+            if (const auto on = die->second.project(middle, a.distance(b), tolerance))
+              return (middle - on->point) * (on->facet.normal * outward > 0 ? on->facet.normal : -on->facet.normal) <=
+                     tolerance;
+          }
+      return true;
+    };
+    const NewMesh new_mesh = remesh_domain(triangulation, fresh, remeshing.boundary_edge_length, edge_out_of_its_die, "Incremental/Remesh below Jacobian");
 
     // The velocity at the new mesh's nodes (the next solve's first iterate),
     // and the strain at its cell centres: the old cell there gives its value.
@@ -1549,7 +1575,20 @@ namespace dieflow
         return Vector<double>();
       Vector<double>                                values(fresh_dofs.n_dofs());
       const dealii::Functions::FEFieldFunction<dim> field(dof_handler, nodal);
-      dealii::VectorTools::interpolate(fresh_dofs, field, values);
+      // A node of the new mesh that no moved cell holds: the move tangled
+      // the cells there (deal.II's message speaks of a parallel mesh).
+      try
+        {
+          dealii::VectorTools::interpolate(fresh_dofs, field, values);
+        }
+      catch (const dealii::ExceptionBase &)
+        {
+          throw InputError("Incremental/Remesh below Jacobian: a node of the new mesh lies in no cell of the moved "
+                           "mesh before step " +
+                           std::to_string(n) +
+                           " (the move tangled the cells there); lower Incremental/Time step, or raise Remesh below "
+                           "Jacobian (new meshes sooner)");
+        }
       return values;
     };
     const Vector<double> fresh_velocity          = at_new_nodes(velocity);

@@ -14,8 +14,14 @@
 //     that the active set lets it close the gap, no more;
 //  3. a node 0.05 mm inside the land's die: a gap rate of -5 mm/s (it comes
 //     back out onto the die by the end of the step);
-//  4. a node past the die's end E: no facet under it, it keeps its own
-//     normal and a gap rate of 0.
+//  4. a node past the die's end E: no facet under it, so no wall: it is
+//     no wall node any more (its own face would be a phantom die);
+//  5. the metal's corner that went on past D along the die face's line,
+//     0.15 mm under the land, with its die-face direction and a land-side
+//     one: the die-face direction faces no facet (the die face ends at D;
+//     the land's normal is 70 degrees off) and is dropped, a phantom wall
+//     that would hold the metal under the land; the land-side one takes
+//     the land and the gap rate of +0.15 mm, 15 mm/s.
 #include <dieflow/contact/die_surface.h>
 #include <dieflow/incremental/contact_gaps.h>
 
@@ -99,7 +105,9 @@ main()
   const Tensor<1, 2> tilted({0.1, 1.});
   std::vector<WallNode<2>> off{node_at(Point<2>(x_d + 1, 4.70), {direction(tilted, 0.5)}),
                                node_at(Point<2>(x_d + 1, 4.80), {direction(tilted, 0.5)}),
-                               node_at(Point<2>(x_d + 16, 4.70), {direction(tilted, 0.5)})};
+                               node_at(Point<2>(x_d + 16, 4.70), {direction(tilted, 0.5)}),
+                               node_at(Point<2>(x_d + 0.15 / std::tan(70. * dealii::numbers::PI / 180.), 4.60),
+                                       {direction(cone_normal, 0.3), direction(tilted, 0.5)})};
   attach_die_surfaces(surfaces, 30., true, off);
   report("in time: nodes off the die keep their own normal and facet after attach",
          off[0].directions[0].normal * tilted > 0.99 * tilted.norm() && off[0].directions[0].facet[1][0] == 1.);
@@ -116,7 +124,13 @@ main()
          separated.facet[0].distance(D) < 1e-12 && near(separated.normal[0], 0) && near(separated.normal[1], 1));
   report("close_gaps: and the gap rate of g = +0.05 mm, 5 mm/s", near(separated.gap_rate, 5, 1e-9));
   report("close_gaps: a node 0.05 mm inside the die: gap rate -5 mm/s", near(off[1].directions[0].gap_rate, -5, 1e-9));
-  report("close_gaps: a node past the die's end keeps its own normal and a gap rate of 0",
-         off[2].directions[0].gap_rate == 0 && off[2].directions[0].normal * tilted > 0.99 * tilted.norm());
+  report("close_gaps: a node past the die's end is no wall node any more",
+         off.size() == 3 && off[2].position[0] < x_d + 1);
+  const auto &corner_under = off.back().directions;
+  report("close_gaps: the corner past D under the land keeps only its land-side direction, the land's normal",
+         corner_under.size() == 1 && near(corner_under[0].normal[0], 0) && near(corner_under[0].normal[1], 1) &&
+           near(corner_under[0].weight, 0.5));
+  report("close_gaps: and the gap rate of g = +0.15 mm, 15 mm/s",
+         corner_under.size() == 1 && near(corner_under[0].gap_rate, 15, 1e-9));
   return 0;
 }

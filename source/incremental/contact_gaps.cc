@@ -123,20 +123,40 @@ namespace dieflow
                                const double                cos_corner,
                                const GapRate &             gap_rate) const
   {
+    std::vector<WallNode<dim>> kept;
     for (auto &node : wall_nodes)
-      for (auto &direction : node.directions)
-        {
-          const auto die = dies.find(direction.id);
-          if (!ids.count(direction.id) || die == dies.end())
-            continue;
-          const auto on = die->second.project(node.position, reach, tolerance);
-          if (!on || on->distance <= tolerance || std::abs(on->facet.normal * direction.normal) < cos_corner)
-            continue;
-          const Tensor<1, dim> normal = on->facet.normal * direction.normal > 0 ? on->facet.normal : -on->facet.normal;
-          direction.normal            = normal;
-          direction.facet             = on->facet.vertices;
-          direction.gap_rate          = gap_rate(node, direction, (on->point - node.position) * normal);
-        }
+      {
+        std::vector<WallDirection<dim>> directions;
+        for (auto &direction : node.directions)
+          {
+            const auto die = dies.find(direction.id);
+            if (!ids.count(direction.id) || die == dies.end())
+              {
+                directions.push_back(direction);
+                continue;
+              }
+            const auto on = die->second.project(node.position, std::max(reach, tolerance), tolerance);
+            if (on && on->distance <= tolerance)
+              {
+                directions.push_back(direction); // on the die (attach_die_surfaces)
+                continue;
+              }
+            // No facet of the die faces this wall within reach: the wall is
+            // no wall here (its own face would be a phantom die, the die
+            // face's plane extended past the die's edge).
+            if (!on || std::abs(on->facet.normal * direction.normal) < cos_corner)
+              continue;
+            const Tensor<1, dim> normal = on->facet.normal * direction.normal > 0 ? on->facet.normal : -on->facet.normal;
+            direction.normal            = normal;
+            direction.facet             = on->facet.vertices;
+            direction.gap_rate          = gap_rate(node, direction, (on->point - node.position) * normal);
+            directions.push_back(direction);
+          }
+        node.directions = directions;
+        if (!node.directions.empty())
+          kept.push_back(node);
+      }
+    wall_nodes = kept;
   }
 
 
@@ -234,10 +254,14 @@ namespace dieflow
                            x = on->point;
                        });
 
-    // The free surface's nodes that went through a die go back onto it.
+    // The nodes that no die held, of the free surface and of die faces
+    // (separated, or off a die given as a surface: close_gaps()), that went
+    // through a die go back onto it.
     for_each_vertex_of(triangulation,
-                       [&](const BoundaryId id) { return free_ids.count(id) > 0; },
+                       [&](const BoundaryId id) { return free_ids.count(id) > 0 || dies.count(id) > 0; },
                        [&](const BoundaryId, const unsigned int index, dealii::Point<dim> &x) {
+                         if (in_contact[index])
+                           return;
                          // In the frame of a moving die, the node started
                          // at its old position plus the die's shift.
                          for (const auto &[id, surface] : dies)

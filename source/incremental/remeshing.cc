@@ -61,26 +61,27 @@ namespace dieflow
       unsigned int face = dealii::numbers::invalid_unsigned_int;
     };
 
-    double
-    cross(const dealii::Tensor<1, 2> &u, const dealii::Tensor<1, 2> &w)
-    {
-      return u[0] * w[1] - u[1] * w[0];
-    }
-
     /// The closed loops of the boundary edges of @p old, each counter-clockwise
     /// about the domain (holes clockwise). A vertex with two outgoing edges
     /// (the boundary touches itself) makes the domain no polygon: refused.
     std::vector<std::vector<BoundaryEdge>>
     boundary_loops(const dealii::Triangulation<2> &old, const std::string &entry)
     {
+      // Each face's cell vertices in counter-clockwise order about the
+      // cell (deal.II's lexicographic quadrilateral): from the cell's
+      // topology, not its shape, so that a cell the move tangled (the
+      // reason for a new mesh) still gives its face the right way round.
+      static constexpr unsigned int counter_clockwise[4][2] = {{2, 0}, {1, 3}, {0, 1}, {3, 2}};
       std::map<unsigned int, BoundaryEdge> leaving;
       for (const auto &cell : old.active_cell_iterators())
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
             {
-              BoundaryEdge e{face->vertex_index(0), face->vertex_index(1), face->boundary_id(), face->index()};
-              if (cross(face->vertex(1) - face->vertex(0), cell->center() - face->vertex(0)) < 0)
-                std::swap(e.a, e.b);
+              const auto   face = cell->face(f);
+              BoundaryEdge e{cell->vertex_index(counter_clockwise[f][0]),
+                             cell->vertex_index(counter_clockwise[f][1]),
+                             face->boundary_id(),
+                             static_cast<unsigned int>(face->index())};
               require(leaving.emplace(e.a, e).second,
                       entry,
                       "cannot mesh the domain anew: its boundary touches itself at (" +
@@ -133,7 +134,13 @@ namespace dieflow
       }
       ~GmshSession()
       {
-        gmsh::finalize();
+        // Also when Gmsh's error unwinds through here: a second throw would end the program.
+        try
+          {
+            gmsh::finalize();
+          }
+        catch (...)
+          {}
         for (unsigned int i = 0; i < signals.size(); ++i)
           sigaction(signals[i], &saved[i], nullptr);
       }
@@ -171,10 +178,13 @@ namespace dieflow
     /// neither is longer than @p longest_edge (0: no limit); an edge longer
     /// than that gets as many Gmsh segments as, halved, make it no longer.
     std::vector<BoundaryGroup>
-    group_edges(const std::vector<dealii::Point<2>> &x, const std::vector<BoundaryEdge> &loop, const double longest_edge)
+    group_edges(const std::vector<dealii::Point<2>> &x,
+                const std::vector<BoundaryEdge> &    loop,
+                const double                         longest_edge,
+                const EdgeFilter<2> &                may_cut)
     {
       const auto too_long = [&](const BoundaryEdge &e) {
-        return longest_edge > 0 && x[e.a].distance(x[e.b]) > longest_edge;
+        return longest_edge > 0 && x[e.a].distance(x[e.b]) > longest_edge && may_cut(x[e.a], x[e.b], e.id);
       };
       const unsigned int n = loop.size();
       // Start where the id changes (a pair never straddles it), if anywhere.
@@ -213,6 +223,7 @@ namespace dieflow
     remesh_polygon(const dealii::Triangulation<2> &old,
                    dealii::Triangulation<2> &      fresh,
                    const double                    longest_edge,
+                   const EdgeFilter<2> &           may_cut,
                    const std::string &             entry)
     {
       const std::vector<dealii::Point<2>>    x     = old.get_vertices();
@@ -232,7 +243,7 @@ namespace dieflow
       std::vector<int>             wires;
       for (const auto &loop : loops)
         {
-          const std::vector<BoundaryGroup> groups = group_edges(x, loop, longest_edge);
+          const std::vector<BoundaryGroup> groups = group_edges(x, loop, longest_edge, may_cut);
           const unsigned int               n      = groups.size();
           // Gmsh's cell size at a point: the mean length of its two lines'
           // segments, a single edge's counted twice (its halves are the
@@ -266,7 +277,15 @@ namespace dieflow
       // Blossom may leave triangles; splitting every cell (a quadrilateral
       // into 4, a triangle into 3) leaves none, and halves every line.
       gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
+      // Gmsh meshes in an OpenMP region, out of which its exception (the
+      // API's default, "General.AbortOnError" = 2) cannot be caught: it
+      // would end the program. Abort the meshing instead, and ask.
+      gmsh::option::setNumber("General.AbortOnError", 1);
       gmsh::model::mesh::generate(2);
+      std::string gmsh_error;
+      gmsh::logger::getLastError(gmsh_error);
+      if (!gmsh_error.empty())
+        throw gmsh_error;
 
       // Gmsh's nodes -> new vertices. The midpoint of a line of two old
       // edges goes to their middle vertex: the boundary is the old one.
@@ -386,13 +405,14 @@ namespace dieflow
   remesh_domain(const dealii::Triangulation<dim> &old,
                 dealii::Triangulation<dim> &      fresh,
                 const double                      longest_edge,
+                const EdgeFilter<dim> &           may_cut,
                 const std::string &               entry)
   {
     if constexpr (dim == 2)
       {
         try
           {
-            return remesh_polygon(old, fresh, longest_edge, entry);
+            return remesh_polygon(old, fresh, longest_edge, may_cut, entry);
           }
         catch (const std::string &gmsh_error)
           {
@@ -404,12 +424,15 @@ namespace dieflow
         (void)old;
         (void)fresh;
         (void)longest_edge;
+        (void)may_cut;
         throw InputError(entry + ": meshing the domain anew is available in 2D only (plane strain, axisymmetric)");
       }
   }
 
   template NewMesh
-  remesh_domain(const dealii::Triangulation<2> &, dealii::Triangulation<2> &, const double, const std::string &);
+  remesh_domain(const dealii::Triangulation<2> &, dealii::Triangulation<2> &, const double, const EdgeFilter<2> &,
+                const std::string &);
   template NewMesh
-  remesh_domain(const dealii::Triangulation<3> &, dealii::Triangulation<3> &, const double, const std::string &);
+  remesh_domain(const dealii::Triangulation<3> &, dealii::Triangulation<3> &, const double, const EdgeFilter<3> &,
+                const std::string &);
 } // namespace dieflow

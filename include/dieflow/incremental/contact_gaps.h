@@ -30,12 +30,14 @@ namespace dieflow
    * paper's g_n = (x_s - x_1).n, for the nodes of the free surface. The
    * velocity problem of a step keeps the nodes of the die faces on the die
    * (their gap rate g_n' = v.n <= 0, the active set), and after the move
-   * the nodes in contact are put back on it (the drift of a curved die, or
-   * of Adams-Bashforth 2's previous velocity, never adds up); the free surface's
-   * nodes are not in it, so a node that the step moves through a die
-   * (its distance to a facet's plane changes sign and it ends over that
-   * facet) is put back onto the facet's plane along the normal, and the
-   * depth it went through is reported. Then a free face whose vertices all
+   * the nodes that every die direction held are put back on it (the drift
+   * of a curved die, or of Adams-Bashforth 2's previous velocity, never adds
+   * up; a corner node that one wall of a die corner let go is not pulled
+   * onto the other). The nodes no die held (the free surface's, and die
+   * faces' separated ones) are not in that active set, so a node that the
+   * step moves through a die (its distance to a facet's plane changes sign
+   * and it ends over that facet) is put back onto the facet's plane along
+   * the normal, and the depth it went through is reported. Then a free face whose vertices all
    * lie on one die (within 1e-6 of the die's size) becomes a face of that
    * die (its boundary id), so that the next step's active set takes its
    * nodes (they enter in contact and may separate at the next state
@@ -68,10 +70,10 @@ namespace dieflow
 
     /**
      * After the mesh moved from @p old_vertices to its vertices now: the
-     * vertices of die faces that were @p in_contact (by vertex index: the
-     * active set of the step's solution) go back onto their die, those of
-     * the free surface that went through a die too, and faces come onto
-     * and leave the dies.
+     * vertices of die faces that were @p in_contact (by vertex index: held
+     * by every die direction in the step's solution) go back onto their
+     * die, the other vertices of the free surface and of die faces that
+     * went through a die too, and faces come onto and leave the dies.
      */
     GapUpdate
     update(const std::vector<dealii::Point<dim>> &old_vertices,
@@ -103,7 +105,11 @@ namespace dieflow
      * that facet and normal and the gap rate at which it closes the gap by
      * the end of the step, as approaching() does for the free surface: the
      * active set then holds it to arrive on the die, not to stay at the gap
-     * (or, for a node that went into it, to come back out onto it).
+     * (or, for a node that went into it, to come back out onto it). A
+     * direction with no such facet (past the die's edge, or facing away
+     * from the die under it) is dropped: its own face would hold the node
+     * as if the die went on (a phantom wall), and a node left with no
+     * direction is no wall node.
      */
     void
     close_gaps(std::vector<WallNode<dim>> &wall_nodes,

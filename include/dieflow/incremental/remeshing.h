@@ -6,6 +6,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 
 namespace dieflow
@@ -53,6 +54,11 @@ namespace dieflow
     }
   };
 
+  /// Whether the boundary edge from a to b of boundary id id may be cut
+  /// into pieces on itself (remesh_domain()'s longest edge).
+  template <int dim>
+  using EdgeFilter = std::function<bool(const dealii::Point<dim> &, const dealii::Point<dim> &, BoundaryId)>;
+
   /// What remesh_domain() made of the old mesh.
   struct NewMesh
   {
@@ -84,8 +90,9 @@ namespace dieflow
    * whose midpoint node is then put back at m; an edge that has no such
    * partner is a line of its own, and is split at its midpoint (on the
    * edge: the domain is the same; NewMesh::split_edges). An edge longer
-   * than @p longest_edge (if not 0) is never paired and is cut into equal
-   * pieces no longer than it, on itself (the material's boundary stretches
+   * than @p longest_edge (if not 0) and that @p may_cut is never paired and
+   * is cut into equal pieces no longer than it, on itself (the material's
+   * boundary stretches
    * where it flows out of a die: an extrudate's edges grow with the
    * reduction). The cell size at each point is the mean length of its two
    * lines, which Gmsh interpolates inside. Cells take the material id of
@@ -99,6 +106,7 @@ namespace dieflow
   remesh_domain(const dealii::Triangulation<dim> &old,
                 dealii::Triangulation<dim> &      fresh,
                 const double                      longest_edge,
+                const EdgeFilter<dim> &           may_cut,
                 const std::string &               entry);
 } // namespace dieflow
 

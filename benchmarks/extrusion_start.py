@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""The start of the die2d extrusion (parameters/extrusion-start.prm) against
+the steady run of the same scene: the ram force per step once the front
+has left the 15 mm land (t >= 0.02 s: stroke 3.8 mm, the front 15.2 mm past
+the die exit), its mean, spread and range, and the cost of the run (wall
+time, steps, Newton iterations, new meshes, cells); then the steady ram
+force of the same deck (Problem = steady, the 20 mm container, the whole
+land, the die from the mesh) on growing meshes, degree 1 and 2.
+
+Usage: benchmarks/extrusion_start.py [--program build/dieflow] [--edges 0.6,0.3]
+                                     [--mu 0] [--steady 8,16,32]"""
+import argparse, math, os, sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from deck_variant import run_variant
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--program", default="build/dieflow")
+parser.add_argument("--deck", default="parameters/extrusion-start.prm")
+parser.add_argument("--edges", default="0.6", help="Incremental/Remesh boundary edge length (mm), one run each")
+parser.add_argument("--mu", default="0", help="Coulomb coefficient on the die face and land (id 4)")
+parser.add_argument("--steady", default="8,16,32", help="Cells across of the steady runs")
+args = parser.parse_args()
+
+surface = os.path.abspath(os.path.join(os.path.dirname(args.deck), "die2d-die-face-land.msh"))
+friction = "3: 0, 4: " + args.mu
+print("extrusion start, Coulomb mu = %s on the die (%s)" % (args.mu, args.deck))
+for edge in args.edges.split(","):
+    status, summary = run_variant(args.program, args.deck,
+                                  {"Remesh boundary edge length": edge, "Die surfaces": "4: " + surface,
+                                   "Friction coefficients": friction, "Checkpoint interval": "0"})
+    cycles = summary["cycles"]
+    late = [c["boundary_force"]["1"][0] for c in cycles if c["step"]["time"] >= 0.02 - 1e-12]
+    mean = sum(late) / len(late)
+    spread = math.sqrt(sum((f - mean) ** 2 for f in late) / len(late))
+    totals = summary["incremental"]
+    print("edges <= %s mm, exit %d: %d steps, %d Newton iterations, %d new meshes, %d cells at the end, wall %.1f s, "
+          "peak %.0f MB; volume change %.1e, largest penetration %.1e"
+          % (edge, status, len(cycles) - 1, sum(c["nonlinear_iterations"] for c in cycles), totals["remeshings"],
+             cycles[-1]["cells"], summary["wall_time"], summary["peak_memory_mb"], totals["volume_change"],
+             totals["largest_penetration"]))
+    print("  ram force over t >= 0.02 s (%d steps): mean %.0f N/mm, spread (sd) %.0f, range %.0f .. %.0f"
+          % (len(late), mean, spread, min(late), max(late)))
+
+print("steady run of the same scene (20 mm container, 15 mm land)")
+for degree in ("1", "2"):
+    for cells in args.steady.split(","):
+        if degree == "2" and int(cells) > 16:
+            continue
+        status, summary = run_variant(args.program, args.deck,
+                                      {"Problem": "steady", "Container length": "20", "Land length": "15",
+                                       "Cells across": cells, "Die surfaces": "", "Velocity degree": degree,
+                                       "Friction coefficients": friction})
+        c = summary["cycles"][-1]
+        print("  degree %s, %s cells across: exit %d, %d dofs, ram force %.1f N/mm"
+              % (degree, cells, status, c["dofs"], c["boundary_force"]["1"][0]))
