@@ -7,9 +7,17 @@ program=./build/dieflow
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
+# variant DECK NAME OUTPUTS [SED ARGS]: DECK as $work/NAME.prm, writing into
+# $work/NAME, with its "set Write VTU" line replaced by OUTPUTS.
+variant() {
+  local deck=$1 name=$2 outputs=$3
+  shift 3
+  sed -e "s|^set Output directory.*|set Output directory = $work/$name|" \
+      -e "s|^set Write VTU .*|$outputs|" "$@" "$deck" > "$work/$name.prm"
+}
+
 # The speed of the default deck, die2d.
-sed -e "s|^set Output directory.*|set Output directory = $work/die2d|" \
-    -e "s|^set Write VTU .*|set Write VTU = false\nset Write gnuplot = true|" parameters/die2d.prm > "$work/die2d.prm"
+variant parameters/die2d.prm die2d 'set Write VTU = false\nset Write gnuplot = true'
 $program "$work/die2d.prm" > /dev/null
 gnuplot <<GP
 set terminal pngcairo size 1200,480 font "sans,11"
@@ -28,8 +36,7 @@ echo "wrote doc/images/die2d-speed.png"
 # The mesh of an adaptive study of die2d N1 after eight cycles (needs
 # rsvg-convert, from Debian's librsvg2-bin, to turn the program's SVG into PNG).
 if command -v rsvg-convert > /dev/null; then
-  sed -e "s|^set Output directory.*|set Output directory = $work/adaptive|" \
-      -e "s|^set Write VTU .*|set Write VTU = false\nset Write mesh SVG = true|" parameters/die2d.prm > "$work/adaptive.prm"
+  variant parameters/die2d.prm adaptive 'set Write VTU = false\nset Write mesh SVG = true'
   cat >> "$work/adaptive.prm" <<DECK
 subsection Mesh
   subsection Die2d
@@ -70,8 +77,7 @@ echo "wrote doc/images/drawing-stress.png"
 # stick / slip / separated map on the two die walls of parameters/rectbar3d.prm,
 # each wall unrolled onto its own plane (the y wall seen along y, the z wall
 # along z; x the drawing direction).
-sed -e "s|^set Output directory.*|set Output directory = $work/rectbar3d|" \
-    -e "s|^set Write VTU .*|set Write VTU = false|" parameters/rectbar3d.prm > "$work/rectbar3d.prm"
+variant parameters/rectbar3d.prm rectbar3d 'set Write VTU = false'
 $program "$work/rectbar3d.prm" > /dev/null
 r="$work/rectbar3d"
 gnuplot <<GP
@@ -111,9 +117,7 @@ echo "wrote doc/images/rectbar3d-contact.png"
 # Forming in time (doc/incremental.md): the load-stroke curve of
 # parameters/upsetting-incremental.prm against the slab estimate, and the
 # barrelled mesh at 50 % reduction.
-sed -e "s|^set Output directory.*|set Output directory = $work/upsetting|" \
-    -e "s|^set Write VTU .*|set Write VTU = false\nset Write gnuplot = true|" \
-    parameters/upsetting-incremental.prm > "$work/upsetting.prm"
+variant parameters/upsetting-incremental.prm upsetting 'set Write VTU = false\nset Write gnuplot = true'
 $program "$work/upsetting.prm" > /dev/null
 gnuplot <<GP
 set terminal pngcairo size 1300,520 font "sans,11"
@@ -146,10 +150,8 @@ echo "wrote doc/images/upsetting-load-stroke.png"
 # step against the stroke, with the steady run's limit (N0, degree 2 on 64
 # cells across: 2289 N/mm; the limit about 2265-2289), and the mesh at the
 # end.
-sed -e "s|^set Output directory.*|set Output directory = $work/extrusion|" \
-    -e "s|^set Write VTU .*|set Write VTU = false\nset Write gnuplot = true|" \
-    -e "s|die2d-die-face-land.msh|$PWD/parameters/die2d-die-face-land.msh|" \
-    parameters/extrusion-start.prm > "$work/extrusion.prm"
+variant parameters/extrusion-start.prm extrusion 'set Write VTU = false\nset Write gnuplot = true' \
+        -e "s|die2d-die-face-land.msh|$PWD/parameters/die2d-die-face-land.msh|"
 $program "$work/extrusion.prm" > /dev/null
 gnuplot <<GP
 set terminal pngcairo size 1300,520 font "sans,11"
