@@ -73,6 +73,7 @@ namespace dieflow
     CheckpointParameters::declare_parameters(prm);
     prm.leave_subsection();
     ContactParameters::declare_parameters(prm);
+    FreeSurfaceParameters::declare_parameters(prm);
     prm.enter_subsection("Refinement");
     prm.declare_entry("Probe point",
                       "auto",
@@ -132,6 +133,15 @@ namespace dieflow
     remeshing.parse_parameters(prm);
     checkpoint.parse_parameters(prm, deck_directory);
     prm.leave_subsection();
+    free_surface_parameters.parse_parameters(prm);
+    require(!free_surface_parameters.enabled() || (dim == 2 && !time_stepping.incremental),
+            "Free surface/Iterations",
+            "a free surface is found for steady runs in 2D (plane strain, axisymmetric); an incremental "
+            "run moves its free surface with the metal: set 0");
+    for (const BoundaryId id : free_surface_parameters.ids)
+      require(boundary_conditions.traction_free_ids.count(id),
+              "Free surface/Free surface ids",
+              "id " + std::to_string(id) + " is not one of Boundary conditions/Traction free ids: a free surface is traction free");
     require(!remeshing.enabled() || dim == 2 || !time_stepping.incremental,
             "Incremental/Remesh below Jacobian",
             "meshing the domain anew is available in 2D only (plane strain, axisymmetric); set 0 and "
@@ -219,6 +229,10 @@ namespace dieflow
       for (const auto &[id, file] : contact_parameters.die_surface_files)
         if (std::find(mesh_ids.begin(), mesh_ids.end(), id) == mesh_ids.end())
           in_mesh.erase(id);
+    // The die faces the metal leaves take the first free-surface id.
+    if (!free_surface_parameters.ids.empty() &&
+        std::find(mesh_ids.begin(), mesh_ids.end(), free_surface_parameters.ids[0]) == mesh_ids.end())
+      in_mesh.erase(free_surface_parameters.ids[0]);
     check_boundary_ids(triangulation, in_mesh);
     if (coordinates.axisymmetric())
       check_axisymmetric_mesh(triangulation, boundary_conditions.symmetry_ids);
@@ -1721,6 +1735,56 @@ namespace dieflow
 
 
   template <int dim>
+  NonlinearResult
+  DieFlowProblem<dim>::settle_free_surface(NonlinearResult result, CycleSummary &cycle)
+  {
+    if constexpr (dim == 2)
+      {
+        FreeSurfaceRecord record;
+        while (result.converged)
+          {
+            const bool      last = record.moves == free_surface_parameters.iterations;
+            FreeSurfaceMove move;
+            {
+              dealii::TimerOutput::Scope scope(timer, "mesh motion");
+              move = free_surface.move(triangulation, dof_handler, velocity, contact.results(velocity), !last);
+            }
+            record.largest_move = move.largest;
+            record.free_faces   = move.free_faces;
+            log << "  free surface: largest move " << std::setprecision(3) << move.largest << " of an edge, "
+                << move.free_faces << " free faces (" << move.let_go << " let go by the dies, " << move.reattached
+                << " back on them)" << std::setprecision(6) << std::endl;
+            record.settled = move.largest <= free_surface_parameters.tolerance;
+            if (record.settled)
+              break;
+            if (last)
+              {
+                result.converged = false;
+                result.failure   = "the free surface did not settle in " + std::to_string(record.moves) +
+                                 " moves (the last would move a node " + deck_number(move.largest) +
+                                 " of its edge): raise Free surface/Iterations or Tolerance";
+                break;
+              }
+            ++record.moves;
+            require(smallest_scaled_jacobian(triangulation) > 0,
+                    "Free surface/Iterations",
+                    "the free surface's move tangled the mesh (a cell turned inside out): refine the mesh where the metal "
+                    "leaves the die, or use Problem = incremental");
+            states_from_previous_mesh = true;
+            setup_system();
+            NonlinearResult next = nonlinear_solver.solve(*this, velocity, log);
+            next.iterations += result.iterations;
+            next.linear_solves += result.linear_solves;
+            result = next;
+          }
+        cycle.free_surface = record;
+      }
+    return result;
+  }
+
+
+
+  template <int dim>
   RunSummary
   DieFlowProblem<dim>::run()
   {
@@ -1752,6 +1816,9 @@ namespace dieflow
         if (!contact.empty())
           gaps.initialize(triangulation, contact_parameters.die_ids, die_surfaces, boundary_conditions.traction_free_ids);
       }
+    if constexpr (dim == 2)
+      if (free_surface_parameters.enabled())
+        free_surface.initialize(triangulation, contact_parameters.die_ids, free_surface_parameters);
 
     for (unsigned int cycle = first_solve; cycle < n_solves; ++cycle)
       {
@@ -1806,6 +1873,8 @@ namespace dieflow
             start = velocity;
             constraints.distribute(start);
             result = nonlinear_solver.solve(*this, velocity, log);
+            if (free_surface_parameters.enabled() && result.converged)
+              result = settle_free_surface(result, cycle_summary);
           }
         catch (const SolverFailure &failure)
           {

@@ -4,6 +4,7 @@
 #include <dieflow/boundary_conditions.h>
 #include <dieflow/contact/contact.h>
 #include <dieflow/flow/flow_assembler.h>
+#include <dieflow/mesh/free_surface.h>
 #include <dieflow/mesh/geometry.h>
 #include <dieflow/solvers/linear_solver.h>
 #include <dieflow/solvers/saddle_point_solver.h>
@@ -193,6 +194,11 @@ namespace dieflow
     /// states; friction 1e-12; sticking speed 1e-8) is not converged.
     void
     guard_contact(CycleSummary &cycle, NonlinearResult &result) const;
+    /// Steady runs with a free surface: moves it onto the streamlines of
+    /// the solution @p result and solves again, until it settles (the
+    /// moves into @p cycle; the last solve's result, iterations summed).
+    NonlinearResult
+    settle_free_surface(NonlinearResult result, CycleSummary &cycle);
     void
     setup_system();
     void
@@ -393,6 +399,9 @@ namespace dieflow
     Vector<double>                           equivalent_strain, previous_strain_rate, cell_hardening;
     GapUpdate                                last_gap_update;
     RemeshingParameters                      remeshing;
+    FreeSurfaceParameters                    free_surface_parameters;
+    /// The free surface of a steady run (2D; the dies of the first mesh).
+    FreeSurface                              free_surface;
     unsigned int                             steps_since_remesh = 0;
     std::optional<RemeshRecord>              last_remesh;
     /// The ram's mean displacement before the last new mesh (ram_start's base).

@@ -1,5 +1,7 @@
 #include <dieflow/incremental/remeshing.h>
 
+#include <dieflow/mesh/boundary_loops.h>
+
 #include <deal.II/grid/grid_tools.h>
 
 #include <gmsh.h>
@@ -50,60 +52,8 @@ namespace dieflow
 
 
 
-  namespace
+    namespace
   {
-    /// A boundary edge with the domain on its left: from vertex a to b.
-    struct BoundaryEdge
-    {
-      unsigned int a = 0, b = 0;
-      BoundaryId   id   = 0;
-      /// The old face (invalid for the halves of a split edge).
-      unsigned int face = dealii::numbers::invalid_unsigned_int;
-    };
-
-    /// The closed loops of the boundary edges of @p old, each counter-clockwise
-    /// about the domain (holes clockwise). A vertex with two outgoing edges
-    /// (the boundary touches itself) makes the domain no polygon: refused.
-    std::vector<std::vector<BoundaryEdge>>
-    boundary_loops(const dealii::Triangulation<2> &old, const std::string &entry)
-    {
-      // Each face's cell vertices in counter-clockwise order about the
-      // cell (deal.II's lexicographic quadrilateral): from the cell's
-      // topology, not its shape, so that a cell the move tangled (the
-      // reason for a new mesh) still gives its face the right way round.
-      static constexpr unsigned int counter_clockwise[4][2] = {{2, 0}, {1, 3}, {0, 1}, {3, 2}};
-      std::map<unsigned int, BoundaryEdge> leaving;
-      for (const auto &cell : old.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            {
-              const auto   face = cell->face(f);
-              BoundaryEdge e{cell->vertex_index(counter_clockwise[f][0]),
-                             cell->vertex_index(counter_clockwise[f][1]),
-                             face->boundary_id(),
-                             static_cast<unsigned int>(face->index())};
-              require(leaving.emplace(e.a, e).second,
-                      entry,
-                      "cannot mesh the domain anew: its boundary touches itself at (" +
-                        deck_number(old.get_vertices()[e.a][0]) + ", " + deck_number(old.get_vertices()[e.a][1]) + ")");
-            }
-      std::vector<std::vector<BoundaryEdge>> loops;
-      while (!leaving.empty())
-        {
-          std::vector<BoundaryEdge> loop;
-          auto                      it = leaving.begin();
-          while (it != leaving.end())
-            {
-              loop.push_back(it->second);
-              leaving.erase(it);
-              it = leaving.find(loop.back().b);
-            }
-          require(loop.back().b == loop.front().a, entry, "cannot mesh the domain anew: a boundary loop does not close");
-          loops.push_back(loop);
-        }
-      return loops;
-    }
-
     std::pair<unsigned int, unsigned int>
     edge_key(const unsigned int a, const unsigned int b)
     {

@@ -135,7 +135,15 @@ namespace dieflow
             for (unsigned int d = 0; d < dim; ++d)
               cell->vertex(v)[d] += displacement[cell->vertex_dof_index(v, d)];
           }
+    place_hanging_vertices(triangulation);
+  }
 
+
+
+  template <int dim>
+  void
+  place_hanging_vertices(dealii::Triangulation<dim> &triangulation)
+  {
     // Coarse cells first, so that a vertex hanging on a face of a cell
     // that is itself refined at a coarser level is placed after its parents.
     for (unsigned int level = 0; level < triangulation.n_levels(); ++level)
@@ -310,6 +318,10 @@ namespace dieflow
 
   template class FixedWalls<2>;
   template class FixedWalls<3>;
+  template void
+  place_hanging_vertices(dealii::Triangulation<2> &);
+  template void
+  place_hanging_vertices(dealii::Triangulation<3> &);
   template void
   move_vertices(const dealii::DoFHandler<2> &, const dealii::Vector<double> &, dealii::Triangulation<2> &);
   template void

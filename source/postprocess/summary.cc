@@ -306,6 +306,9 @@ namespace dieflow
                   << "}";
             out << "}";
           }
+        if (const auto &f = s.free_surface)
+          out << ",\n      \"free_surface\": {\"moves\": " << f->moves << ", \"settled\": " << (f->settled ? "true" : "false")
+              << ", \"largest_move\": " << number(f->largest_move) << ", \"free_faces\": " << f->free_faces << "}";
         out << "\n    }";
       }
     out << "\n  ]\n}\n";

@@ -122,6 +122,11 @@ namespace
             cycle["jacobian_after_remesh"] = s.step->remesh ? s.step->remesh->jacobian_after : nan;
             cycle["split_edges"]          = s.step->remesh ? s.step->remesh->split_edges : 0.;
           }
+        // Steady runs with a free surface (free_surface.h).
+        cycle["free_surface_moves"]   = s.free_surface ? s.free_surface->moves : nan;
+        cycle["free_surface_settled"] = s.free_surface ? s.free_surface->settled : nan;
+        cycle["free_surface_move"]    = s.free_surface ? s.free_surface->largest_move : nan;
+        cycle["free_faces"]           = s.free_surface ? s.free_surface->free_faces : nan;
         if (c > 0 && s.velocity_l2_error)
           {
             const CycleSummary &p = summary.cycles[c - 1];

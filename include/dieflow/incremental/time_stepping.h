@@ -81,6 +81,12 @@ namespace dieflow
                 const dealii::Vector<double> & displacement,
                 dealii::Triangulation<dim> &   triangulation);
 
+  /// Puts every hanging vertex at the mean of its parent edge's (face's)
+  /// vertices, after the others moved (move_vertices(), a free surface's move).
+  template <int dim>
+  void
+  place_hanging_vertices(dealii::Triangulation<dim> &triangulation);
+
   /**
    * The fixed walls of a moving mesh (symmetry planes and lines, the axis,
    * slip walls): the planes of their faces at t = 0, by vertex. A node's

@@ -96,6 +96,19 @@ namespace dieflow
     std::optional<RemeshRecord> remesh;
   };
 
+  /// What the free surface of a steady cycle did (free_surface.h).
+  struct FreeSurfaceRecord
+  {
+    /// Moves made, each followed by a solve; whether the last look found
+    /// no node to move more than the tolerance.
+    unsigned int moves   = 0;
+    bool         settled = false;
+    /// The largest move the last look found (over the node's edge length).
+    double       largest_move = 0;
+    /// Faces of the free surface after the last move.
+    unsigned int free_faces = 0;
+  };
+
   /// What one refinement cycle reports (interface.md, summary.json).
   struct CycleSummary
   {
@@ -179,6 +192,8 @@ namespace dieflow
     std::vector<IterationRecord> history;
     /// Problem = incremental: the step this solve belongs to.
     std::optional<StepRecord> step;
+    /// Steady runs with Free surface/Iterations > 0.
+    std::optional<FreeSurfaceRecord> free_surface;
   };
 
   /// The value named @p name among (name, value) pairs such as
