@@ -21,7 +21,12 @@
 //     one: the die-face direction faces no facet (the die face ends at D;
 //     the land's normal is 70 degrees off) and is dropped, a phantom wall
 //     that would hold the metal under the land; the land-side one takes
-//     the land and the gap rate of +0.15 mm, 15 mm/s.
+//     the land and the gap rate of +0.15 mm, 15 mm/s;
+//  6. a node 0.02 mm under the die face just above D (off it), whose two
+//     faces meet at 10 degrees (a new mesh's node): both its directions
+//     take the die face's facet under it, and are one direction (weights
+//     0.3 + 0.5, gap rate 2 mm/s): held twice along one normal it would
+//     count as held by two walls, at rest, while it slides.
 #include <dieflow/contact/die_surface.h>
 #include <dieflow/incremental/contact_gaps.h>
 
@@ -108,6 +113,11 @@ main()
                                node_at(Point<2>(x_d + 16, 4.70), {direction(tilted, 0.5)}),
                                node_at(Point<2>(x_d + 0.15 / std::tan(70. * dealii::numbers::PI / 180.), 4.60),
                                        {direction(cone_normal, 0.3), direction(tilted, 0.5)})};
+  const double       turn = 10. * dealii::numbers::PI / 180.;
+  const Tensor<1, 2> kinked({std::cos(turn) * cone_normal[0] - std::sin(turn) * cone_normal[1],
+                             std::sin(turn) * cone_normal[0] + std::cos(turn) * cone_normal[1]});
+  const Point<2>     under_face = C + 0.99 * (D - C) - 0.02 * cone_normal;
+  off.push_back(node_at(under_face, {direction(cone_normal, 0.3), direction(kinked, 0.5)}));
   attach_die_surfaces(surfaces, 30., true, off);
   report("in time: nodes off the die keep their own normal and facet after attach",
          off[0].directions[0].normal * tilted > 0.99 * tilted.norm() && off[0].directions[0].facet[1][0] == 1.);
@@ -125,12 +135,17 @@ main()
   report("close_gaps: and the gap rate of g = +0.05 mm, 5 mm/s", near(separated.gap_rate, 5, 1e-9));
   report("close_gaps: a node 0.05 mm inside the die: gap rate -5 mm/s", near(off[1].directions[0].gap_rate, -5, 1e-9));
   report("close_gaps: a node past the die's end is no wall node any more",
-         off.size() == 3 && off[2].position[0] < x_d + 1);
-  const auto &corner_under = off.back().directions;
+         off.size() == 4 && off[2].position[0] < x_d + 1);
+  const auto &corner_under = off[off.size() - 2].directions;
   report("close_gaps: the corner past D under the land keeps only its land-side direction, the land's normal",
          corner_under.size() == 1 && near(corner_under[0].normal[0], 0) && near(corner_under[0].normal[1], 1) &&
            near(corner_under[0].weight, 0.5));
   report("close_gaps: and the gap rate of g = +0.15 mm, 15 mm/s",
          corner_under.size() == 1 && near(corner_under[0].gap_rate, 15, 1e-9));
+  const auto &one_wall = off.back().directions;
+  report("close_gaps: a node under the die face with a kinked pair of faces has one direction, the die face's normal",
+         one_wall.size() == 1 && near(one_wall[0].normal * cone_normal, 1));
+  report("close_gaps: with both faces' weight 0.8 and the gap rate of g = +0.02 mm, 2 mm/s",
+         one_wall.size() == 1 && near(one_wall[0].weight, 0.8) && near(one_wall[0].gap_rate, 2, 1e-9));
   return 0;
 }

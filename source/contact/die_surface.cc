@@ -5,6 +5,7 @@
 
 #include <boost/geometry/index/rtree.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -297,13 +298,41 @@ namespace dieflow
             throw InputError("Contact/Die surfaces: " + message.str());
           }
         join_directions_off_the_die(off_die, node);
+        join_directions_of_one_wall(node);
       }
+  }
+
+
+
+  template <int dim>
+  void
+  join_directions_of_one_wall(WallNode<dim> &node)
+  {
+    std::vector<WallDirection<dim>> kept;
+    for (const auto &direction : node.directions)
+      {
+        const auto same = std::find_if(kept.begin(), kept.end(), [&](const WallDirection<dim> &k) {
+          return k.id == direction.id && k.normal * direction.normal > 1 - 1e-12;
+        });
+        if (same == kept.end())
+          kept.push_back(direction);
+        else
+          {
+            same->weight += direction.weight;
+            same->length += direction.length;
+          }
+      }
+    node.directions = kept;
   }
 
 
 
   template class DieSurface<2>;
   template class DieSurface<3>;
+  template void
+  join_directions_of_one_wall<2>(WallNode<2> &);
+  template void
+  join_directions_of_one_wall<3>(WallNode<3> &);
   template void
   attach_die_surfaces<2>(const std::map<BoundaryId, DieSurface<2>> &, const double, const bool, std::vector<WallNode<2>> &);
   template void

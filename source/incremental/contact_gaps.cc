@@ -153,6 +153,7 @@ namespace dieflow
             directions.push_back(direction);
           }
         node.directions = directions;
+        join_directions_of_one_wall(node);
         if (!node.directions.empty())
           kept.push_back(node);
       }

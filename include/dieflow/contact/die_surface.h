@@ -162,6 +162,20 @@ namespace dieflow
   };
 
   /**
+   * Joins the directions of @p node that are one wall of one die (the same
+   * id and normal, to round-off), their weights and lengths added. The
+   * node's two faces may meet at an angle where the die has none (a new
+   * mesh's node near a die corner, off the die, both of whose directions
+   * take the facet under it: ContactGaps::close_gaps()); held twice along
+   * one normal the node would count as held by two walls, at rest and
+   * "sticking", while it slides (die2d's extrusion start: a node 0.13 mm
+   * above the exit D slid at 0.3 of the largest speed).
+   */
+  template <int dim>
+  void
+  join_directions_of_one_wall(WallNode<dim> &node);
+
+  /**
    * Die surfaces read on their own (Contact/Die surfaces): for every
    * direction of a wall node whose id has a surface, its master facet and
    * normal become the surface's, found by DieSurface::find(). In a steady
