@@ -10,7 +10,7 @@ land holding the metal (the domain as meshed) and with the free surface
 (the metal leaves the land at the die exit; Free surface/Iterations).
 
 Usage: benchmarks/extrusion_start.py [--program build/dieflow] [--edges 0.6,0.3]
-                                     [--mu 0] [--steady 8,16,32]"""
+                                     [--dt 0.0004] [--mu 0] [--steady 8,16,32]"""
 import argparse, math, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -20,16 +20,17 @@ parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--program", default="build/dieflow")
 parser.add_argument("--deck", default="parameters/extrusion-start.prm")
 parser.add_argument("--edges", default="0.6", help="Incremental/Remesh boundary edge length (mm), one run each")
+parser.add_argument("--dt", default="0.0004", help="Incremental/Time step (s)")
 parser.add_argument("--mu", default="0", help="Coulomb coefficient on the die face and land (id 4)")
 parser.add_argument("--steady", default="8,16,32", help="Cells across of the steady runs")
 args = parser.parse_args()
 
 surface = os.path.abspath(os.path.join(os.path.dirname(args.deck), "die2d-die-face-land.msh"))
 friction = "3: 0, 4: " + args.mu
-print("extrusion start, Coulomb mu = %s on the die (%s)" % (args.mu, args.deck))
+print("extrusion start, Coulomb mu = %s on the die, dt = %s s (%s)" % (args.mu, args.dt, args.deck))
 for edge in args.edges.split(","):
     status, summary = run_variant(args.program, args.deck,
-                                  {"Remesh boundary edge length": edge, "Die surfaces": "4: " + surface,
+                                  {"Remesh boundary edge length": edge, "Die surfaces": "4: " + surface, "Time step": args.dt,
                                    "Friction coefficients": friction, "Checkpoint interval": "0"})
     cycles = summary["cycles"]
     late = [c["boundary_force"]["1"][0] for c in cycles if c["step"]["time"] >= 0.02 - 1e-12]
@@ -47,7 +48,7 @@ for edge in args.edges.split(","):
 print("steady run of the same scene (20 mm container, 15 mm land): the land held (as meshed), and free to leave")
 for iterations in ("0", "40"):
     for degree in ("1", "2"):
-        for cells in args.steady.split(","):
+        for cells in filter(None, args.steady.split(",")):
             if degree == "2" and int(cells) > 32:
                 continue
             status, summary = run_variant(args.program, args.deck,

@@ -1741,6 +1741,7 @@ namespace dieflow
     if constexpr (dim == 2)
       {
         FreeSurfaceRecord record;
+        free_surface.new_mesh();
         while (result.converged)
           {
             const bool      last = record.moves == free_surface_parameters.iterations;

@@ -135,7 +135,7 @@ namespace dieflow
   FreeSurfaceMove
   FreeSurface::move(dealii::Triangulation<2> &mesh, const dealii::DoFHandler<2> &dof_handler,
                     const dealii::Vector<double> &velocity, const std::vector<ContactNodeResult<2>> &results,
-                    const bool apply) const
+                    const bool apply)
   {
     const std::vector<dealii::Point<2>> x = mesh.get_vertices();
     const std::vector<Tensor<1, 2>>     v = vertex_velocities(dof_handler, velocity);
@@ -266,7 +266,9 @@ namespace dieflow
       {
         const Nearest a = nearest_die(at(e.a)), b = nearest_die(at(e.b));
         const bool    on = a.id != dealii::numbers::invalid_boundary_id && a.id == b.id && std::abs(a.depth) <= on_die &&
-                        std::abs(b.depth) <= on_die;
+                        std::abs(b.depth) <= on_die && !let_go.count(e.face);
+        if (!on && die_ids.count(e.id) && apply && result.largest > parameters.tolerance)
+          let_go.insert(e.face);
         face_ids[e.face] = on ? a.id : is_free_id(e.id) ? e.id : parameters.ids.front();
         result.free_faces += on ? 0 : 1;
         result.let_go += (!on && die_ids.count(e.id)) ? 1 : 0;

@@ -66,7 +66,11 @@ namespace dieflow
    * outlet; v.n then integrates to zero over each straight Q1 edge). A node
    * the march puts into a die goes onto the die surface (the dies of the
    * first mesh, kept), and an edge with both nodes on a die is that die's
-   * again. The march goes on over the die faces downstream of the stretch
+   * again, unless the dies let it go before on this mesh: then it stays
+   * free, lying on the die (the surface grazes the die with no pressure;
+   * given back, such faces pulled away from the die at the next solve and
+   * the march put them back, a cycle of two: die2d with mu = 0.1, 32 cells
+   * across). The march goes on over the die faces downstream of the stretch
    * (the metal may leave them too) to the next other part; the straight
    * boundary there (the outlet) is stretched to the march's end. Each move
    * is damped to a quarter of an edge (a damped fixed point: the first
@@ -91,7 +95,14 @@ namespace dieflow
      */
     FreeSurfaceMove
     move(dealii::Triangulation<2> &mesh, const dealii::DoFHandler<2> &dof_handler, const dealii::Vector<double> &velocity,
-         const std::vector<ContactNodeResult<2>> &results, const bool apply) const;
+         const std::vector<ContactNodeResult<2>> &results, const bool apply);
+
+    /// Forgets the faces the dies let go (a new mesh: its faces are others).
+    void
+    new_mesh()
+    {
+      let_go.clear();
+    }
 
   private:
     struct Segment
@@ -114,6 +125,8 @@ namespace dieflow
     nearest_die(const dealii::Point<2> &x) const;
 
     std::vector<Segment>  dies;
+    /// The faces (by index) the dies let go since the last new mesh.
+    std::set<unsigned int> let_go;
     double                on_die = 0;
     FreeSurfaceParameters parameters;
   };
