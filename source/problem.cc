@@ -1444,8 +1444,21 @@ namespace dieflow
     if (b != 0)
       equivalent_strain.add(b, previous_strain_rate);
     previous_strain_rate = rate;
+    update_hardening();
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::update_hardening()
+  {
+    if (!material.hardens())
+      return;
+    cell_hardening.reinit(equivalent_strain.size());
     for (unsigned int c = 0; c < cell_hardening.size(); ++c)
       cell_hardening[c] = material.hardening(equivalent_strain[c]);
+    assembler.set_cell_hardening(&cell_hardening);
   }
 
 
@@ -1550,13 +1563,13 @@ namespace dieflow
 
   template <int dim>
   void
-  DieFlowProblem<dim>::remesh(const unsigned int n)
+  DieFlowProblem<dim>::remesh(const unsigned int n, const double jacobian_before)
   {
     dealii::TimerOutput::Scope scope(timer, "remeshing");
     RemeshRecord record;
     record.step                     = n;
     record.cells_before             = triangulation.n_active_cells();
-    record.jacobian_before          = smallest_scaled_jacobian(triangulation);
+    record.jacobian_before          = jacobian_before;
     const double volume_before      = domain_volume(coordinates, triangulation);
     dealii::Triangulation<dim> fresh;
     // A die face's edge that cuts a die's corner (from the die face to the
@@ -1639,12 +1652,7 @@ namespace dieflow
     previous_velocity    = fresh_previous_velocity;
     equivalent_strain    = fresh_strain;
     previous_strain_rate = fresh_previous_rate;
-    if (material.hardens())
-      {
-        cell_hardening.reinit(triangulation.n_active_cells());
-        for (unsigned int c = 0; c < cell_hardening.size(); ++c)
-          cell_hardening[c] = material.hardening(equivalent_strain[c]);
-      }
+    update_hardening();
     transferred_cell_stress.reinit(0);
     record_ram_start();
     fixed_walls.initialize(triangulation, boundary_conditions.wall_ids());
@@ -1808,12 +1816,7 @@ namespace dieflow
         record_ram_start();
         fixed_walls.initialize(triangulation, boundary_conditions.wall_ids());
         equivalent_strain.reinit(triangulation.n_active_cells());
-        if (material.hardens())
-          {
-            cell_hardening.reinit(triangulation.n_active_cells());
-            cell_hardening = material.hardening(0.);
-            assembler.set_cell_hardening(&cell_hardening);
-          }
+        update_hardening();
         if (!contact.empty())
           gaps.initialize(triangulation, contact_parameters.die_ids, die_surfaces, boundary_conditions.traction_free_ids);
       }
@@ -1841,11 +1844,10 @@ namespace dieflow
             if (incremental)
               {
                 advance_configuration(cycle - 1);
+                const double jacobian = remeshing.enabled() ? smallest_scaled_jacobian(triangulation) : 1.;
                 if (remeshing.enabled() &&
-                    remeshing.due(smallest_scaled_jacobian(triangulation),
-                                  ++steps_since_remesh,
-                                  last_remesh ? last_remesh->jacobian_after : 1.))
-                  remesh(cycle);
+                    remeshing.due(jacobian, ++steps_since_remesh, last_remesh ? last_remesh->jacobian_after : 1.))
+                  remesh(cycle, jacobian);
               }
             else
               refine_mesh();

@@ -214,6 +214,10 @@ namespace dieflow
     /// as the positions'), and the hardening factors that follow.
     void
     advance_strain(const double a, const double b);
+    /// The hardening factor (eps_0 + eps)^n of every active cell from its
+    /// equivalent strain, for the assembler (when the material hardens).
+    void
+    update_hardening();
     /// Time, stroke, volume and cell shape of the current configuration (step @p n).
     StepRecord
     step_record(const unsigned int n) const;
@@ -242,9 +246,11 @@ namespace dieflow
      * new cell's centre; the ram's stroke, the fixed walls and the faces'
      * ids before they came onto a die. The contact states follow the nodes
      * (ContactSet::setup(): the boundary nodes are the same).
+     * @p jacobian_before: the moved mesh's smallest scaled Jacobian, which
+     * decided the new mesh (for the record).
      */
     void
-    remesh(const unsigned int n);
+    remesh(const unsigned int n, const double jacobian_before);
     /// The free-surface nodes that may reach a die within the current step
     /// (ContactGaps::approaching(); empty in a steady run and at the last step).
     std::vector<WallNode<dim>>

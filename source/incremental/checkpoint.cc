@@ -252,13 +252,7 @@ namespace dieflow
             "'" + file + "' does not hold the fields of its mesh");
 
     record_ram_start();
-    if (material.hardens())
-      {
-        cell_hardening.reinit(triangulation.n_active_cells());
-        for (unsigned int c = 0; c < cell_hardening.size(); ++c)
-          cell_hardening[c] = material.hardening(equivalent_strain[c]);
-        assembler.set_cell_hardening(&cell_hardening);
-      }
+    update_hardening();
     contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity);
     contact_states_valid = true;
     prescribed_speed     = boundary_conditions.largest_prescribed_speed(dof_handler);
