@@ -21,7 +21,6 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/grid/grid_tools_cache.h>
-#include <deal.II/numerics/fe_field_function.h>
 #include <deal.II/numerics/solution_transfer.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -1595,41 +1594,62 @@ namespace dieflow
 
     // The velocity at the new mesh's nodes (the next solve's first iterate),
     // and the strain at its cell centres: the old cell there gives its value.
+    // The cache's search (the cells of the nearest vertex) misses a point
+    // whose cell is long and thin, as moved cells near a crowded boundary
+    // are; the search that widens over the neighbours then finds it.
+    const dealii::GridTools::Cache<dim> cache(triangulation);
+    const auto                          old_cell_around = [&](const Point<dim> &p) {
+      auto found = dealii::GridTools::find_active_cell_around_point(cache, p);
+      if (found.first.state() != dealii::IteratorState::valid)
+        try
+          {
+            found = dealii::GridTools::find_active_cell_around_point(cache.get_mapping(), triangulation, p);
+          }
+        catch (const dealii::ExceptionBase &)
+          {
+            throw InputError("Incremental/Remesh below Jacobian: a point of the new mesh lies in no cell of the "
+                             "moved mesh before step " +
+                             std::to_string(n) +
+                             " (the move tangled the cells there); lower Incremental/Time step, or raise Remesh "
+                             "below Jacobian (new meshes sooner)");
+          }
+      return found;
+    };
     dealii::DoFHandler<dim> fresh_dofs(fresh);
     fresh_dofs.distribute_dofs(fe);
     const auto at_new_nodes = [&](const Vector<double> &nodal) {
       if (nodal.size() != dof_handler.n_dofs())
         return Vector<double>();
-      Vector<double>                                values(fresh_dofs.n_dofs());
-      const dealii::Functions::FEFieldFunction<dim> field(dof_handler, nodal);
-      // A node of the new mesh that no moved cell holds: the move tangled
-      // the cells there (deal.II's message speaks of a parallel mesh).
-      try
+      Vector<double>                                    values(fresh_dofs.n_dofs());
+      std::vector<bool>                                 done(fresh_dofs.n_dofs(), false);
+      std::vector<dealii::types::global_dof_index>      fresh_indices(fe.n_dofs_per_cell()), old_indices(fe.n_dofs_per_cell());
+      const std::vector<Point<dim>> &                   unit_support = fe.get_unit_support_points();
+      for (const auto &cell : fresh_dofs.active_cell_iterators())
         {
-          dealii::VectorTools::interpolate(fresh_dofs, field, values);
-        }
-      catch (const dealii::ExceptionBase &)
-        {
-          throw InputError("Incremental/Remesh below Jacobian: a node of the new mesh lies in no cell of the moved "
-                           "mesh before step " +
-                           std::to_string(n) +
-                           " (the move tangled the cells there); lower Incremental/Time step, or raise Remesh below "
-                           "Jacobian (new meshes sooner)");
+          cell->get_dof_indices(fresh_indices);
+          for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+            if (!done[fresh_indices[i]])
+              {
+                const Point<dim> p = cache.get_mapping().transform_unit_to_real_cell(cell, unit_support[i]);
+                const auto [old, unit] = old_cell_around(p);
+                typename dealii::DoFHandler<dim>::active_cell_iterator(&triangulation, old->level(), old->index(),
+                                                                        &dof_handler)
+                  ->get_dof_indices(old_indices);
+                const unsigned int component = fe.system_to_component_index(i).first;
+                double             value     = 0;
+                for (unsigned int j = 0; j < fe.n_dofs_per_cell(); ++j)
+                  value += nodal[old_indices[j]] * fe.shape_value_component(j, unit, component);
+                values[fresh_indices[i]] = value;
+                done[fresh_indices[i]]   = true;
+              }
         }
       return values;
     };
-    const Vector<double> fresh_velocity          = at_new_nodes(velocity);
-    const Vector<double> fresh_previous_velocity = at_new_nodes(previous_velocity);
-    const dealii::GridTools::Cache<dim> cache(triangulation);
-    std::vector<unsigned int>           old_cell(fresh.n_active_cells());
+    const Vector<double>      fresh_velocity          = at_new_nodes(velocity);
+    const Vector<double>      fresh_previous_velocity = at_new_nodes(previous_velocity);
+    std::vector<unsigned int> old_cell(fresh.n_active_cells());
     for (const auto &cell : fresh.active_cell_iterators())
-      {
-        const auto old = dealii::GridTools::find_active_cell_around_point(cache, cell->center());
-        require(old.first.state() == dealii::IteratorState::valid,
-                "Incremental/Remesh below Jacobian",
-                "a new cell's centre lies outside the old mesh");
-        old_cell[cell->active_cell_index()] = old.first->active_cell_index();
-      }
+      old_cell[cell->active_cell_index()] = old_cell_around(cell->center()).first->active_cell_index();
     const auto at_new_cells = [&](const Vector<double> &per_cell) {
       Vector<double> values(old_cell.size());
       if (per_cell.size() == triangulation.n_active_cells())
@@ -1662,13 +1682,16 @@ namespace dieflow
     record.jacobian_after = smallest_scaled_jacobian(triangulation);
     record.volume_change  = domain_volume(coordinates, triangulation) / volume_before - 1;
     record.split_edges    = new_mesh.split_edges;
+    record.dropped_vertices = new_mesh.dropped_vertices;
     last_remesh           = record;
     steps_since_remesh    = 0;
     log << "  new mesh before step " << n << " (t = " << std::setprecision(6) << time_stepping.time(n)
         << " s): smallest scaled Jacobian " << std::setprecision(3) << record.jacobian_before << " -> "
         << record.jacobian_after << ", " << record.cells_before << " -> " << record.cells_after
-        << " cells, volume change " << std::setprecision(2) << record.volume_change << std::setprecision(6)
-        << std::endl;
+        << " cells, volume change " << std::setprecision(2) << record.volume_change << std::setprecision(6);
+    if (record.dropped_vertices > 0)
+      log << ", " << record.dropped_vertices << " crowding boundary vertices dropped";
+    log << std::endl;
   }
 
 

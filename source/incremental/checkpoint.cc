@@ -49,7 +49,7 @@ namespace dieflow
 
   namespace
   {
-    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 1";
+    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 2";
 
     /// Saves or loads a vector: its size, then @p item(x) for each element x.
     template <class Archive, typename T, typename Item>
@@ -123,7 +123,7 @@ namespace dieflow
         s.remesh.emplace();
       if (remeshed)
         ar &s.remesh->step &s.remesh->cells_before &s.remesh->cells_after &s.remesh->jacobian_before
-          &s.remesh->jacobian_after &s.remesh->volume_change &s.remesh->split_edges;
+          &s.remesh->jacobian_after &s.remesh->volume_change &s.remesh->split_edges &s.remesh->dropped_vertices;
     }
   } // namespace
 

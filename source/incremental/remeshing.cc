@@ -10,6 +10,8 @@
 #include <array>
 #include <csignal>
 #include <cmath>
+#include <limits>
+#include <set>
 
 namespace dieflow
 {
@@ -124,7 +126,7 @@ namespace dieflow
     };
 
     /// Pairs the edges of @p loop where their middle vertex is near the
-    /// chord's midpoint (within a fifth of the chord), both have one id and
+    /// chord's midpoint (within a tenth of the chord), both have one id and
     /// neither is longer than @p longest_edge (0: no limit); an edge longer
     /// than that gets as many Gmsh segments as, halved, make it no longer.
     std::vector<BoundaryGroup>
@@ -154,7 +156,7 @@ namespace dieflow
               const BoundaryEdge &f     = loop[(start + j + 1) % n];
               const double        chord = x[e.a].distance(x[f.b]);
               if (e.id == f.id && !too_long(e) && !too_long(f) &&
-                  x[e.b].distance(0.5 * (x[e.a] + x[f.b])) <= 0.2 * chord)
+                  x[e.b].distance(0.5 * (x[e.a] + x[f.b])) <= 0.1 * chord)
                 {
                   groups.push_back({{e, f}});
                   j += 2;
@@ -167,6 +169,81 @@ namespace dieflow
           ++j;
         }
       return groups;
+    }
+
+    /**
+     * Drops the boundary vertices that crowd their neighbours from @p loop:
+     * while an edge is shorter than a quarter of the longer of its two
+     * neighbours, or than a tenth of @p longest_edge (if not 0), one of its
+     * ends goes, the one whose triangle with its two neighbours is the
+     * smaller (a vertex on a straight wall before a corner: the polygon
+     * stays the same), joining two edges of one id; never a reflex corner
+     * (the chord would leave the domain). Nodes that flow into a
+     * corner where the metal stands (the die entry, where a sticking die
+     * face meets the wall) or that the dies put back onto one corner crowd
+     * to a millionth of a millimetre: a new mesh that kept them all would
+     * have cells of that size and corners of no angle at all. Returns the
+     * number of vertices dropped.
+     */
+    unsigned int
+    drop_crowding_vertices(const std::vector<dealii::Point<2>> &x,
+                           std::vector<BoundaryEdge> &          loop,
+                           const double                         longest_edge)
+    {
+      const auto length = [&](const BoundaryEdge &e) { return x[e.a].distance(x[e.b]); };
+      // The triangle a vertex q cuts off with its neighbours p and r, when
+      // the domain keeps the chord p-r: q is no reflex corner (the loops
+      // have the domain on their left), else the new mesh would reach
+      // beyond the old one, into a die.
+      const auto cost = [&](const unsigned int p, const unsigned int q, const unsigned int r) {
+        const dealii::Tensor<1, 2> u = x[q] - x[p], w = x[r] - x[q];
+        const double               turn = u[0] * w[1] - u[1] * w[0];
+        return turn >= -1e-12 * u.norm() * w.norm() ? 0.5 * turn : std::numeric_limits<double>::infinity();
+      };
+      unsigned int dropped = 0;
+      std::set<std::pair<unsigned int, unsigned int>> stuck; // crowded edges neither of whose ends can go
+      while (loop.size() > 4)
+        {
+          const unsigned int n        = loop.size();
+          unsigned int       shortest = n;
+          double             worst    = 1;
+          for (unsigned int k = 0; k < n; ++k)
+            {
+              const double l          = length(loop[k]);
+              const double neighbours = std::max(length(loop[(k + n - 1) % n]), length(loop[(k + 1) % n]));
+              const double crowding   = std::min(l / (0.25 * neighbours), longest_edge > 0 ? l / (0.1 * longest_edge) : 1.);
+              if (crowding < worst && stuck.count({loop[k].a, loop[k].b}) == 0)
+                {
+                  worst    = crowding;
+                  shortest = k;
+                }
+            }
+          if (shortest == n)
+            break;
+          const unsigned int  k    = shortest;
+          const BoundaryEdge &e    = loop[k];
+          const BoundaryEdge &prev = loop[(k + n - 1) % n];
+          const BoundaryEdge &next = loop[(k + 1) % n];
+          const double cost_a = prev.id == e.id ? cost(prev.a, e.a, e.b) : std::numeric_limits<double>::infinity();
+          const double cost_b = next.id == e.id ? cost(e.a, e.b, next.b) : std::numeric_limits<double>::infinity();
+          if (std::isinf(cost_a) && std::isinf(cost_b))
+            {
+              stuck.insert({e.a, e.b});
+              continue;
+            }
+          if (cost_a <= cost_b)
+            {
+              loop[(k + n - 1) % n] = {prev.a, e.b, e.id, dealii::numbers::invalid_unsigned_int};
+              loop.erase(loop.begin() + k);
+            }
+          else
+            {
+              loop[k] = {e.a, next.b, e.id, dealii::numbers::invalid_unsigned_int};
+              loop.erase(loop.begin() + (k + 1) % n);
+            }
+          ++dropped;
+        }
+      return dropped;
     }
 
     NewMesh
@@ -185,6 +262,7 @@ namespace dieflow
       for (unsigned int l = 1; l < loops.size(); ++l)
         require(signed_area(x, loops[l]) < 0, entry, "cannot mesh the domain anew: it has more than one piece");
 
+      NewMesh     result;
       GmshSession session;
       gmsh::model::add("dieflow-remesh");
       std::map<int, unsigned int>  vertex_of_point; // Gmsh point tag -> old vertex
@@ -193,7 +271,9 @@ namespace dieflow
       std::vector<int>             wires;
       for (const auto &loop : loops)
         {
-          const std::vector<BoundaryGroup> groups = group_edges(x, loop, longest_edge, may_cut);
+          std::vector<BoundaryEdge> kept_loop = loop;
+          result.dropped_vertices += drop_crowding_vertices(x, kept_loop, longest_edge);
+          const std::vector<BoundaryGroup> groups = group_edges(x, kept_loop, longest_edge, may_cut);
           const unsigned int               n      = groups.size();
           // Gmsh's cell size at a point: the mean length of its two lines'
           // segments, a single edge's counted twice (its halves are the
@@ -271,7 +351,6 @@ namespace dieflow
           points[new_vertex_of_point[point]] = x[vertex]; // exactly
         }
 
-      NewMesh                                                       result;
       dealii::SubCellData                                           boundary;
       std::map<std::pair<unsigned int, unsigned int>, unsigned int> old_face_of_edge;
       const auto add_face = [&](const unsigned int a, const unsigned int b, const BoundaryId id, const unsigned int face) {

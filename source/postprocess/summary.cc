@@ -303,6 +303,7 @@ namespace dieflow
                   << ", \"smallest_scaled_jacobian_before\": " << number(r->jacobian_before)
                   << ", \"smallest_scaled_jacobian_after\": " << number(r->jacobian_after)
                   << ", \"volume_change\": " << number(r->volume_change) << ", \"split_edges\": " << r->split_edges
+                  << ", \"dropped_vertices\": " << r->dropped_vertices
                   << "}";
             out << "}";
           }

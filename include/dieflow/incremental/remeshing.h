@@ -68,6 +68,9 @@ namespace dieflow
     /// Boundary edges cut into pieces (edges without a partner, at their
     /// midpoints, and edges longer than the limit; see remesh_domain()).
     unsigned int split_edges = 0;
+    /// Boundary vertices that crowded their neighbours, dropped (see
+    /// remesh_domain()).
+    unsigned int dropped_vertices = 0;
   };
 
   /**
@@ -78,7 +81,16 @@ namespace dieflow
    * its boundary id, so that the domain is the same polygon (the volume is
    * kept to round-off, also in the axisymmetric form: the cells are
    * straight-sided), the nodes in contact stay where the dies hold them and
-   * the boundary faces keep their ids.
+   * the boundary faces keep their ids. Except where boundary vertices
+   * crowd: while an edge is shorter than a quarter of the longer of its
+   * neighbours, or than a tenth of @p longest_edge (if not 0), one of its
+   * ends is dropped (NewMesh::dropped_vertices), the one whose triangle
+   * with its neighbours is the smaller, never a reflex corner (the new
+   * polygon stays inside the old one), and its two edges of one id become
+   * one: the volume changes by those triangles (nothing for a vertex on a
+   * straight wall). Nodes that flow into a corner where the metal stands,
+   * or that the dies put back onto one corner, come to lie a millionth of
+   * a millimetre apart: a new mesh that kept them had cells of that size.
    *
    * How: Gmsh (its C++ API, which the Debian deal.II links) triangulates
    * with Frontal-Delaunay, recombines the triangles into quadrilaterals
@@ -86,7 +98,7 @@ namespace dieflow
    * 4, a triangle into 3), which leaves no triangle whatever Blossom left
    * but halves every boundary line. So the boundary goes to Gmsh at half
    * its resolution: consecutive edges a-m-b of one id whose middle vertex
-   * lies within a fifth of the chord from its midpoint are one line a-b,
+   * lies within a tenth of the chord from its midpoint are one line a-b,
    * whose midpoint node is then put back at m; an edge that has no such
    * partner is a line of its own, and is split at its midpoint (on the
    * edge: the domain is the same; NewMesh::split_edges). An edge longer

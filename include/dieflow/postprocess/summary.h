@@ -61,10 +61,13 @@ namespace dieflow
     unsigned int cells_before = 0, cells_after = 0;
     /// smallest_scaled_jacobian() of the moved mesh and of the new one.
     double jacobian_before = 0, jacobian_after = 0;
-    /// (V_new - V_old) / V_old: round-off (the boundary is kept).
+    /// (V_new - V_old) / V_old: round-off where the boundary is kept, the
+    /// triangles of the dropped vertices where not.
     double volume_change = 0;
     /// Boundary edges split at their midpoints (an odd loop).
     unsigned int split_edges = 0;
+    /// Boundary vertices that crowded their neighbours, dropped.
+    unsigned int dropped_vertices = 0;
   };
 
   /// What a step of Problem = incremental adds to its cycle's report.
