@@ -34,16 +34,20 @@ for edge in args.edges.split(","):
                                    "Friction coefficients": friction, "Checkpoint interval": "0"})
     cycles = summary["cycles"]
     late = [c["boundary_force"]["1"][0] for c in cycles if c["step"]["time"] >= 0.02 - 1e-12]
-    mean = sum(late) / len(late)
-    spread = math.sqrt(sum((f - mean) ** 2 for f in late) / len(late))
     totals = summary["incremental"]
     print("edges <= %s mm, exit %d: %d steps, %d Newton iterations, %d new meshes, %d cells at the end, wall %.1f s, "
           "peak %.0f MB; volume change %.1e, largest penetration %.1e"
           % (edge, status, len(cycles) - 1, sum(c["nonlinear_iterations"] for c in cycles), totals["remeshings"],
              cycles[-1]["cells"], summary["wall_time"], summary["peak_memory_mb"], totals["volume_change"],
              totals["largest_penetration"]))
-    print("  ram force over t >= 0.02 s (%d steps): mean %.0f N/mm, spread (sd) %.0f, range %.0f .. %.0f"
-          % (len(late), mean, spread, min(late), max(late)))
+    if status != 0:
+        print("  stopped at step %d (t = %.4f s): %s" % (cycles[-1]["step"]["step"], cycles[-1]["step"]["time"],
+                                                       summary.get("failure", "see its log")))
+    if late:
+        mean = sum(late) / len(late)
+        spread = math.sqrt(sum((f - mean) ** 2 for f in late) / len(late))
+        print("  ram force over t >= 0.02 s (%d steps): mean %.0f N/mm, spread (sd) %.0f, range %.0f .. %.0f"
+              % (len(late), mean, spread, min(late), max(late)))
 
 print("steady run of the same scene (20 mm container, 15 mm land): the land held (as meshed), and free to leave")
 for iterations in ("0", "40"):

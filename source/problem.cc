@@ -1596,23 +1596,44 @@ namespace dieflow
     // and the strain at its cell centres: the old cell there gives its value.
     // The cache's search (the cells of the nearest vertex) misses a point
     // whose cell is long and thin, as moved cells near a crowded boundary
-    // are; the search that widens over the neighbours then finds it.
+    // are; the search that widens over the neighbours then finds it. A step
+    // can fold the cells at a die's corner (the metal turning round the
+    // exit D) before the new mesh comes, and a point may lie in the gap of
+    // the fold, in no cell: the nearest vertex's cells give their value at
+    // the nearest point of the one nearest to it (counted and said).
     const dealii::GridTools::Cache<dim> cache(triangulation);
+    unsigned int                        in_folds        = 0;
     const auto                          old_cell_around = [&](const Point<dim> &p) {
       auto found = dealii::GridTools::find_active_cell_around_point(cache, p);
       if (found.first.state() != dealii::IteratorState::valid)
+        found = dealii::GridTools::find_active_cell_around_point(cache.get_mapping(), triangulation, p);
+      if (found.first.state() == dealii::IteratorState::valid)
+        return found;
+      const unsigned int vertex = dealii::GridTools::find_closest_vertex(cache.get_mapping(), triangulation, p);
+      double             nearest = std::numeric_limits<double>::infinity();
+      for (const auto &cell : cache.get_vertex_to_cell_map()[vertex])
         try
           {
-            found = dealii::GridTools::find_active_cell_around_point(cache.get_mapping(), triangulation, p);
+            const Point<dim> unit     = cache.get_mapping().transform_real_to_unit_cell(cell, p);
+            const double     distance = dealii::GeometryInfo<dim>::distance_to_unit_cell(unit);
+            if (distance < nearest)
+              {
+                nearest = distance;
+                found   = {cell, dealii::GeometryInfo<dim>::project_to_unit_cell(unit)};
+              }
           }
-        catch (const dealii::ExceptionBase &)
-          {
-            throw InputError("Incremental/Remesh below Jacobian: a point of the new mesh lies in no cell of the "
-                             "moved mesh before step " +
-                             std::to_string(n) +
-                             " (the move tangled the cells there); lower Incremental/Time step, or raise Remesh "
-                             "below Jacobian (new meshes sooner)");
-          }
+        catch (const typename dealii::Mapping<dim>::ExcTransformationFailed &)
+          {}
+      if (found.first.state() != dealii::IteratorState::valid)
+        {
+          std::ostringstream where;
+          where << "Incremental/Remesh below Jacobian: a point of the new mesh, (" << p
+                << "), lies in no cell of the moved mesh before step " << n
+                << " (the move tangled the cells there); lower Incremental/Time step, or raise Remesh below "
+                   "Jacobian (new meshes sooner)";
+          throw InputError(where.str());
+        }
+      ++in_folds;
       return found;
     };
     dealii::DoFHandler<dim> fresh_dofs(fresh);
@@ -1646,7 +1667,9 @@ namespace dieflow
       return values;
     };
     const Vector<double>      fresh_velocity          = at_new_nodes(velocity);
+    const unsigned int        nodes_in_folds          = in_folds;
     const Vector<double>      fresh_previous_velocity = at_new_nodes(previous_velocity);
+    in_folds                                          = nodes_in_folds; // the same nodes
     std::vector<unsigned int> old_cell(fresh.n_active_cells());
     for (const auto &cell : fresh.active_cell_iterators())
       old_cell[cell->active_cell_index()] = old_cell_around(cell->center()).first->active_cell_index();
@@ -1691,6 +1714,8 @@ namespace dieflow
         << " cells, volume change " << std::setprecision(2) << record.volume_change << std::setprecision(6);
     if (record.dropped_vertices > 0)
       log << ", " << record.dropped_vertices << " crowding boundary vertices dropped";
+    if (in_folds > 0)
+      log << ", " << in_folds << " new nodes or cell centres in folded cells (the nearest cell's values)";
     log << std::endl;
   }
 
