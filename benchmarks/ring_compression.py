@@ -8,10 +8,11 @@ height.
 
 Usage: benchmarks/ring_compression.py [--program build/dieflow] [--mu 0,0.05,0.1,0.2]
                                       [--subdivisions 8,12] [--remesh 0.3]"""
-import argparse, math, os, sys
+import argparse, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deck_variant import run_variant
+from ring_geometry import inner_diameter_curve
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--program", default="build/dieflow")
@@ -21,18 +22,13 @@ parser.add_argument("--subdivisions", default="8,12", help="cells across the wal
 parser.add_argument("--remesh", default="0.3", help="Incremental/Remesh below Jacobian (0: never)")
 args = parser.parse_args()
 
-h0, d0 = 10.0, 30.0
 rows = {}
 for mu in args.mu.split(","):
     status, summary = run_variant(args.program, args.deck,
                                   {"Friction coefficients": "2: " + mu, "Subdivisions": args.subdivisions,
                                    "Remesh below Jacobian": args.remesh})
     cycles = summary["cycles"]
-    curve = []
-    for c in cycles:
-        h = h0 - c["step"]["stroke"]
-        d = 2 * c["boundary_area"]["3"] / (2 * math.pi * h)
-        curve.append((100 * (1 - h / h0), 100 * (d / d0 - 1)))
+    curve = inner_diameter_curve(summary)
     newton = sum(c["nonlinear_iterations"] for c in cycles)
     rows[mu] = curve
     totals = summary["incremental"]

@@ -31,6 +31,7 @@ import argparse, math, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deck_variant import run_variant
+from ring_geometry import inner_diameter_curve
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--program", default="build/dieflow")
@@ -94,12 +95,7 @@ def program_curve(m, k):
     law = "Tresca\n  set Tresca friction factors = 2: %s\n  set Shear flow stress = %s" % (m, k)
     status, summary = run_variant(args.program, args.deck,
                                   {"Friction law": law, "Subdivisions": args.subdivisions})
-    h0, d0 = 10.0, 30.0
-    curve = {}
-    for c in summary["cycles"]:
-        h = h0 - c["step"]["stroke"]
-        reduction = round(100 * (1 - h / h0), 6)
-        curve[reduction] = 100 * (c["boundary_area"]["3"] / (math.pi * h) / d0 - 1)
+    curve = {round(reduction, 6): change for reduction, change in inner_diameter_curve(summary)}
     return status, summary, curve
 
 
