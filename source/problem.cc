@@ -1515,7 +1515,8 @@ namespace dieflow
           die_surfaces.at(id).translate(shift);
         gaps.translate(id, shift);
       }
-    last_gap_update = gaps.update(old_vertices, in_contact, triangulation);
+    last_gap_update = gaps.update(old_vertices, in_contact, triangulation,
+                                   std::cos(boundary_conditions.corner_angle * dealii::numbers::PI / 180.));
   }
 
 

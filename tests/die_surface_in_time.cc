@@ -67,12 +67,6 @@ namespace
     node.directions = directions;
     return node;
   }
-
-  bool
-  near(const double a, const double b, const double tolerance = 1e-12)
-  {
-    return std::abs(a - b) <= tolerance;
-  }
 } // namespace
 
 int

@@ -4,6 +4,7 @@
 
 #include <dieflow/run.h>
 
+#include <cmath>
 #include <csignal>
 #include <fstream>
 #include <iostream>
@@ -15,6 +16,13 @@ inline void
 report(const std::string &claim, const bool holds)
 {
   std::cout << claim << ": " << (holds ? "yes" : "NO") << std::endl;
+}
+
+/// Whether @p a and @p b agree to @p tolerance (absolute).
+inline bool
+near(const double a, const double b, const double tolerance = 1e-12)
+{
+  return std::abs(a - b) <= tolerance;
 }
 
 /// Runs the deck @p text (written to deck.prm; results in results/, no VTU

@@ -1,8 +1,11 @@
 #include <dieflow/incremental/contact_gaps.h>
+#include <dieflow/incremental/time_stepping.h>
 
 #include <deal.II/grid/grid_tools.h>
 
 #include <algorithm>
+#include <limits>
+#include <optional>
 
 namespace dieflow
 {
@@ -24,6 +27,110 @@ namespace dieflow
                   done[face->vertex_index(v)] = true;
                   act(face->boundary_id(), face->vertex_index(v), face->vertex(v));
                 }
+    }
+
+    /// The vertices where two facets of @p die meet at an angle whose
+    /// cosine is below @p cos_corner (shared vertices are the same point:
+    /// one Gmsh node, or one mesh vertex, translated alike).
+    std::vector<dealii::Point<2>>
+    corners_of(const DieSurface<2> &die, const double cos_corner)
+    {
+      std::map<std::pair<double, double>, std::vector<dealii::Tensor<1, 2>>> tangents_at;
+      for (const auto &facet : die.all_facets())
+        for (unsigned int k = 0; k < 2; ++k)
+          {
+            const auto along = facet.vertices[1 - k] - facet.vertices[k];
+            tangents_at[{facet.vertices[k][0], facet.vertices[k][1]}].push_back(along / along.norm());
+          }
+      std::vector<dealii::Point<2>> corners;
+      for (const auto &[x, tangents] : tangents_at)
+        // Both tangents point away from the vertex: a straight wall has -1.
+        if (tangents.size() == 2 && -(tangents[0] * tangents[1]) < cos_corner)
+          corners.emplace_back(x.first, x.second);
+      return corners;
+    }
+
+    /// Each boundary vertex's two neighbours along the boundary (2D).
+    std::map<unsigned int, std::vector<unsigned int>>
+    boundary_neighbours(const dealii::Triangulation<2> &triangulation)
+    {
+      std::map<unsigned int, std::vector<unsigned int>> neighbours;
+      for (const auto &face : triangulation.active_face_iterators())
+        if (face->at_boundary())
+          {
+            neighbours[face->vertex_index(0)].push_back(face->vertex_index(1));
+            neighbours[face->vertex_index(1)].push_back(face->vertex_index(0));
+          }
+      return neighbours;
+    }
+
+    /// The area the domain gains or loses when boundary vertex @p v moves to
+    /// @p to: the triangle its two boundary neighbours span with the move.
+    double
+    area_changed(const dealii::Triangulation<2> &                         triangulation,
+                 const std::map<unsigned int, std::vector<unsigned int>> &neighbours,
+                 const unsigned int                                       v,
+                 const dealii::Point<2> &                                 to)
+    {
+      const auto around = neighbours.find(v);
+      if (around == neighbours.end() || around->second.size() != 2)
+        return std::numeric_limits<double>::max();
+      const auto &x    = triangulation.get_vertices();
+      const auto  span = x[around->second[1]] - x[around->second[0]], move = to - x[v];
+      return 0.5 * std::abs(span[0] * move[1] - span[1] * move[0]);
+    }
+
+    /// Whether the cells around vertex @p v stay uninverted with it at @p to.
+    bool
+    keeps_cells_valid(dealii::Triangulation<2> &triangulation, const unsigned int v, const dealii::Point<2> &to)
+    {
+      std::vector<dealii::Triangulation<2>::active_cell_iterator> around;
+      dealii::Point<2> *                                           position = nullptr;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        for (const unsigned int k : cell->vertex_indices())
+          if (cell->vertex_index(k) == v)
+            {
+              around.push_back(cell);
+              position = &cell->vertex(k);
+            }
+      if (position == nullptr)
+        return false;
+      const dealii::Point<2> from = *position;
+      *position                   = to;
+      const bool valid =
+        std::all_of(around.begin(), around.end(), [](const auto &cell) { return scaled_jacobian<2>(cell) > 0; });
+      *position = from;
+      return valid;
+    }
+
+    /// The boundary edge (of an id that @p selected) that passes deepest
+    /// on the metal's side of @p corner, over the edge's interior and within
+    /// its length, and how deep; none within @p tolerance.
+    template <typename Selected>
+    std::optional<std::pair<dealii::Triangulation<2>::face_iterator, double>>
+    edge_over(const dealii::Triangulation<2> &triangulation,
+              const dealii::Point<2> &        corner,
+              const Selected &                selected,
+              const double                    tolerance)
+    {
+      std::optional<std::pair<dealii::Triangulation<2>::face_iterator, double>> over;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          {
+            if (!face->at_boundary() || !selected(face->boundary_id()))
+              continue;
+            const auto             a = face->vertex(0);
+            const auto             along  = face->vertex(1) - a;
+            const double           length = along.norm();
+            dealii::Tensor<1, 2>   outward({along[1] / length, -along[0] / length});
+            if ((face->center() - cell->center()) * outward < 0)
+              outward = -outward;
+            const double s = (corner - a) * along / (length * length);
+            const double depth = (a - corner) * outward;
+            if (s > 0 && s < 1 && depth > std::max(tolerance, over ? over->second : 0.) && depth < length)
+              over = std::make_pair(face, depth);
+          }
+      return over;
     }
   } // namespace
 
@@ -235,7 +342,8 @@ namespace dieflow
   GapUpdate
   ContactGaps<dim>::update(const std::vector<dealii::Point<dim>> &old_vertices,
                            const std::vector<bool> &              in_contact,
-                           dealii::Triangulation<dim> &           triangulation)
+                           dealii::Triangulation<dim> &           triangulation,
+                           const double                           cos_corner)
   {
     GapUpdate update;
     if (dies.empty())
@@ -272,6 +380,7 @@ namespace dieflow
                                x                  = crossing->point;
                              }
                        });
+    update.penetration = std::max(update.penetration, put_nodes_on_die_corners(triangulation, cos_corner));
 
     // Faces onto and off the dies.
     const BoundaryId first_free = free_ids.empty() ? dealii::numbers::invalid_boundary_id : *free_ids.begin();
@@ -302,6 +411,47 @@ namespace dieflow
         }
     shifts.clear();
     return update;
+  }
+
+  template <int dim>
+  double
+  ContactGaps<dim>::put_nodes_on_die_corners(dealii::Triangulation<dim> &triangulation, const double cos_corner) const
+  {
+    double deepest = 0;
+    if constexpr (dim == 2)
+      {
+        const auto neighbours = boundary_neighbours(triangulation);
+        const auto movable    = [&](const BoundaryId id) { return free_ids.count(id) > 0 || dies.count(id) > 0; };
+        for (const auto &[die, surface] : dies)
+          for (const auto &corner : corners_of(surface, cos_corner))
+            if (const auto over = edge_over(triangulation, corner, movable, tolerance))
+              {
+                // The end whose move changes the area least, of those whose
+                // cells it leaves uninverted (a node on the die face a cell
+                // back from the corner would fold its cell over).
+                double             least = std::numeric_limits<double>::max();
+                const unsigned int none  = 2;
+                unsigned int       end   = none;
+                for (unsigned int k = 0; k < 2; ++k)
+                  {
+                    const unsigned int v    = over->first->vertex_index(k);
+                    const double       area = area_changed(triangulation, neighbours, v, corner);
+                    if (area < least && keeps_cells_valid(triangulation, v, corner))
+                      {
+                        least = area;
+                        end   = k;
+                      }
+                  }
+                if (end != none)
+                  {
+                    over->first->vertex(end) = corner;
+                    deepest                  = std::max(deepest, over->second);
+                  }
+              }
+      }
+    (void)triangulation;
+    (void)cos_corner;
+    return deepest;
   }
 
   template class ContactGaps<2>;

@@ -291,28 +291,39 @@ namespace dieflow
 
   template <int dim>
   double
+  scaled_jacobian(const typename dealii::Triangulation<dim>::cell_iterator &cell)
+  {
+    double smallest = std::numeric_limits<double>::max();
+    for (const unsigned int v : cell->vertex_indices())
+      {
+        // Lexicographic vertices: the edge along axis d joins v and v ^ 2^d,
+        // pointing towards +xi_d.
+        dealii::Tensor<2, dim> J;
+        double                 lengths = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const unsigned int     other = v ^ (1u << d);
+            dealii::Tensor<1, dim> edge  = cell->vertex(other) - cell->vertex(v);
+            if (v & (1u << d))
+              edge *= -1.;
+            for (unsigned int i = 0; i < dim; ++i)
+              J[i][d] = edge[i];
+            lengths *= edge.norm();
+          }
+        smallest = std::min(smallest, lengths > 0 ? dealii::determinant(J) / lengths : 0.);
+      }
+    return smallest;
+  }
+
+
+
+  template <int dim>
+  double
   smallest_scaled_jacobian(const dealii::Triangulation<dim> &triangulation)
   {
     double smallest = std::numeric_limits<double>::max();
     for (const auto &cell : triangulation.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        {
-          // Lexicographic vertices: the edge along axis d joins v and v ^ 2^d,
-          // pointing towards +xi_d.
-          dealii::Tensor<2, dim> J;
-          double                 lengths = 1;
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              const unsigned int     other = v ^ (1u << d);
-              dealii::Tensor<1, dim> edge  = cell->vertex(other) - cell->vertex(v);
-              if (v & (1u << d))
-                edge *= -1.;
-              for (unsigned int i = 0; i < dim; ++i)
-                J[i][d] = edge[i];
-              lengths *= edge.norm();
-            }
-          smallest = std::min(smallest, lengths > 0 ? dealii::determinant(J) / lengths : 0.);
-        }
+      smallest = std::min(smallest, scaled_jacobian<dim>(cell));
     return smallest;
   }
 
@@ -338,6 +349,10 @@ namespace dieflow
   domain_volume(const CoordinateSystem<2> &, const dealii::Triangulation<2> &);
   template double
   domain_volume(const CoordinateSystem<3> &, const dealii::Triangulation<3> &);
+  template double
+  scaled_jacobian<2>(const dealii::Triangulation<2>::cell_iterator &);
+  template double
+  scaled_jacobian<3>(const dealii::Triangulation<3>::cell_iterator &);
   template double
   smallest_scaled_jacobian(const dealii::Triangulation<2> &);
   template double

@@ -21,7 +21,9 @@ namespace dieflow
     unsigned int entered = 0;
     unsigned int left    = 0;
     /// The deepest a free node went through a die within the step, before
-    /// it was put back on the die's surface (mm; 0 when none crossed).
+    /// it was put back on the die's surface, or a die's corner went into
+    /// the metal between two of its boundary nodes, before one of them was
+    /// put on the corner (mm; 0 when none did).
     double penetration = 0;
   };
 
@@ -37,7 +39,15 @@ namespace dieflow
    * faces' separated ones) are not in that active set, so a node that the
    * step moves through a die (its distance to a facet's plane changes sign
    * and it ends over that facet) is put back onto the facet's plane along
-   * the normal, and the depth it went through is reported. Then a free face whose vertices all
+   * the normal, and the depth it went through is reported. In 2D a corner
+   * of a die (two of its facets meeting at more than the wall corner angle)
+   * that went into the metal between two nodes of its boundary (the
+   * node-to-facet contact holds nodes, not the edges between them: past
+   * the die exit D the edge from the last node on the die face to the
+   * first one past D cut over D by up to 0.05 mm, and the metal flowed
+   * through an opening that much wider, the ram force 1-3 % low) puts one
+   * of the two nodes on the corner: the metal's boundary passes through it
+   * again, as a steady run's mesh has a node there. Then a free face whose vertices all
    * lie on one die (within 1e-6 of the die's size) becomes a face of that
    * die (its boundary id), so that the next step's active set takes its
    * nodes (they enter in contact and may separate at the next state
@@ -73,12 +83,16 @@ namespace dieflow
      * vertices of die faces that were @p in_contact (by vertex index: held
      * by every die direction in the step's solution) go back onto their
      * die, the other vertices of the free surface and of die faces that
-     * went through a die too, and faces come onto and leave the dies.
+     * went through a die too, a node goes onto a die corner that went into
+     * the metal (2D; a corner: facets meeting at an angle whose cosine is
+     * below @p cos_corner, Boundary conditions/Wall corner angle), and faces
+     * come onto and leave the dies.
      */
     GapUpdate
     update(const std::vector<dealii::Point<dim>> &old_vertices,
            const std::vector<bool> &              in_contact,
-           dealii::Triangulation<dim> &           triangulation);
+           dealii::Triangulation<dim> &           triangulation,
+           const double                           cos_corner);
 
     /**
      * The nodes of the free surface (@p free_nodes, from collect_wall_nodes()
@@ -148,6 +162,18 @@ namespace dieflow
     }
 
   private:
+    /**
+     * 2D: for each corner of a die, the boundary edge of the metal (of a
+     * free or die id) that passes deepest on the metal's side of it, within
+     * one edge length and over the edge's interior: the end whose move
+     * onto the corner changes the enclosed area least (the overlap, and
+     * what the move adds or cuts off beside it), of those whose cells stay
+     * uninverted, goes onto the corner (none if neither). Returns the
+     * deepest overlap closed.
+     */
+    double
+    put_nodes_on_die_corners(dealii::Triangulation<dim> &triangulation, const double cos_corner) const;
+
     /// How many vertices of @p face lie on the surface of @p die.
     template <typename FaceIterator>
     unsigned int

@@ -154,6 +154,11 @@ namespace dieflow
   template <int dim>
   double
   smallest_scaled_jacobian(const dealii::Triangulation<dim> &triangulation);
+
+  /// The same for one cell: the smallest over its vertices.
+  template <int dim>
+  double
+  scaled_jacobian(const typename dealii::Triangulation<dim>::cell_iterator &cell);
 } // namespace dieflow
 
 #endif
