@@ -18,7 +18,15 @@
 //     top side's vertex next to the reflex corner (0, 0)... moved to 1e-6
 //     from it along its edge: the reflex corner stays (a chord past it would
 //     leave the domain: the new mesh would reach into a die), its
-//     neighbour goes, the volume to round-off.
+//     neighbour goes, the volume to round-off;
+//  4. the 8 x 4 box with its top split in two ids at x = 1.75, and the
+//     top's vertex at x = 1.5 moved to (1.749, 1 + h), so that the edge from
+//     it to the ids' junction (1.75, 1) crowds its neighbour (0.02-0.05
+//     against 0.5): the junction may not go (two ids), the vertex only if it
+//     stands no higher over its neighbours' chord than a twentieth of it.
+//     h = 0.02 (a twenty-fifth): dropped, the volume changes by the
+//     triangle, 0.5 * 0.5 * 0.02 = 0.005; h = 0.05 (a tenth: the corner of a
+//     fold): nothing dropped, the volume to round-off.
 #include <dieflow/incremental/remeshing.h>
 #include <dieflow/incremental/time_stepping.h>
 
@@ -141,4 +149,24 @@ main()
     report("L: volume to round-off", std::abs(domain_volume(plane, fresh) - before) < 1e-12 && std::abs(before - 3) < 1e-12);
     report("L: smallest scaled Jacobian positive", smallest_scaled_jacobian(fresh) > 0);
   }
+  for (const double h : {0.02, 0.05})
+    {
+      dealii::Triangulation<2> box, fresh;
+      dealii::GridGenerator::subdivided_hyper_rectangle(box, {8, 4}, Point<2>(0, 0), Point<2>(2, 1));
+      for (const auto &cell : box.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && face->center()[1] > 1 - 1e-12 && face->center()[0] > 1.75)
+            face->set_boundary_id(7);
+      move_vertex(box, Point<2>(1.5, 1), Point<2>(1.749, 1 + h));
+      const double  before = domain_volume(plane, box);
+      const NewMesh made   = remesh(box, fresh);
+      const double  change = domain_volume(plane, fresh) - before;
+      if (h < 0.03)
+        report("a corner a twenty-fifth over its chord: dropped, the volume changes by its triangle (0.005)",
+               made.dropped_vertices == 1 && missing({Point<2>(1.749, 1 + h)}, fresh) == 1 &&
+                 std::abs(change + 0.005) < 1e-12);
+      else
+        report("a corner a tenth over its chord (a fold's): kept, nothing dropped, volume to round-off",
+               made.dropped_vertices == 0 && missing(boundary_vertices(box), fresh) == 0 && std::abs(change) < 1e-12);
+    }
 }

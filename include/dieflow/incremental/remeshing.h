@@ -86,7 +86,9 @@ namespace dieflow
    * neighbours, or than a tenth of @p longest_edge (if not 0), one of its
    * ends is dropped (NewMesh::dropped_vertices), the one whose triangle
    * with its neighbours is the smaller, never a reflex corner (the new
-   * polygon stays inside the old one), and its two edges of one id become
+   * polygon stays inside the old one) nor a vertex higher over its
+   * neighbours' chord than a twentieth of it (a corner of the metal's
+   * shape, such as a fold's, not a crowding), and its two edges of one id become
    * one: the volume changes by those triangles (nothing for a vertex on a
    * straight wall). Nodes that flow into a corner where the metal stands,
    * or that the dies put back onto one corner, come to lie a millionth of
@@ -108,10 +110,12 @@ namespace dieflow
    * where it flows out of a die: an extrudate's edges grow with the
    * reduction). The cell size at each point is the mean length of its two
    * lines, which Gmsh interpolates inside. Cells take the material id of
-   * @p old's first cell.
+   * @p old's first cell. If Gmsh's cells come out tangled (a cell gone
+   * round the other way, or a corner of no angle), the domain is meshed
+   * again with every edge a line of its own.
    *
-   * Throws InputError naming @p entry if Gmsh fails or its mesh is not the
-   * old boundary's.
+   * Throws InputError naming @p entry if Gmsh fails, its mesh is not the
+   * old boundary's, or it is tangled even so.
    */
   template <int dim>
   NewMesh
