@@ -10,8 +10,8 @@ land holding the metal (the domain as meshed) and with the free surface
 (the metal leaves the land at the die exit; Free surface/Iterations).
 
 Usage: benchmarks/extrusion_start.py [--program build/dieflow] [--edges 0.6,0.3]
-                                     [--dt 0.0004] [--mu 0] [--steady 8,16,32]"""
-import argparse, math, os, sys
+                                     [--dt 0.0004] [--mu 0] [--steady 8,16,32] [--gmsh 0.6,0.3]"""
+import argparse, math, os, shutil, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deck_variant import run_variant
@@ -23,12 +23,13 @@ parser.add_argument("--edges", default="0.6", help="Incremental/Remesh boundary 
 parser.add_argument("--dt", default="0.0004", help="Incremental/Time step (s)")
 parser.add_argument("--mu", default="0", help="Coulomb coefficient on the die face and land (id 4)")
 parser.add_argument("--steady", default="8,16,32", help="Cells across of the steady runs")
+parser.add_argument("--gmsh", default="", help="Edge lengths (mm) of steady free-surface runs on Gmsh meshes")
 args = parser.parse_args()
 
 surface = os.path.abspath(os.path.join(os.path.dirname(args.deck), "die2d-die-face-land.msh"))
 friction = "3: 0, 4: " + args.mu
 print("extrusion start, Coulomb mu = %s on the die, dt = %s s (%s)" % (args.mu, args.dt, args.deck))
-for edge in args.edges.split(","):
+for edge in filter(None, args.edges.split(",")):
     status, summary = run_variant(args.program, args.deck,
                                   {"Remesh boundary edge length": edge, "Die surfaces": "4: " + surface, "Time step": args.dt,
                                    "Friction coefficients": friction, "Checkpoint interval": "0"})
@@ -69,3 +70,26 @@ for iterations in ("0", "40"):
                 line += ", %d moves, %d free faces, settled %s, wall %.1f s" % (f["moves"], f["free_faces"], f["settled"],
                                                                              summary["wall_time"])
             print(line)
+
+if args.gmsh:
+    if shutil.which("gmsh") is None:
+        raise SystemExit("--gmsh needs the gmsh program: apt install gmsh")
+    geo = os.path.join(os.path.dirname(os.path.abspath(__file__)), "die2d-uniform.geo")
+    print("steady run with its free surface on Gmsh's quadrilaterals (%s)" % geo)
+    with tempfile.TemporaryDirectory() as tmp:
+        for edge in args.gmsh.split(","):
+            mesh = os.path.join(tmp, "die2d-uniform-%s.msh" % edge)
+            # Gmsh's subdivision halves its size h: edges about h / 2.
+            subprocess.run(["gmsh", "-2", "-format", "msh22", "-setnumber", "h", str(2 * float(edge)), geo, "-o", mesh],
+                           check=True, stdout=subprocess.DEVNULL)
+            for degree in ("1", "2"):
+                # The deck names no Gmsh file: the Source entry brings it along.
+                status, summary = run_variant(args.program, args.deck,
+                                              {"Problem": "steady", "Source": "gmsh\n  set Gmsh file = " + mesh,
+                                               "Die surfaces": "", "Velocity degree": degree,
+                                               "Friction coefficients": friction, "Iterations": "40"})
+                c = summary["cycles"][-1]
+                f = c["free_surface"]
+                print("  edges about %s mm, degree %s: exit %d, %d dofs, ram force %.1f N/mm, %d moves, settled %s, wall %.1f s"
+                      % (edge, degree, status, c["dofs"], c["boundary_force"]["1"][0], f["moves"], f["settled"],
+                         summary["wall_time"]))
