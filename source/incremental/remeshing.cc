@@ -1,5 +1,6 @@
 #include <dieflow/incremental/remeshing.h>
 
+#include <dieflow/incremental/time_stepping.h>
 #include <dieflow/mesh/boundary_loops.h>
 
 #include <deal.II/grid/grid_tools.h>
@@ -260,18 +261,8 @@ namespace dieflow
     bool
     tangled(const std::vector<dealii::Point<2>> &points, const dealii::CellData<2> &cell)
     {
-      for (unsigned int v = 0; v < 4; ++v)
-        {
-          dealii::Tensor<1, 2> along_x = points[cell.vertices[v ^ 1]] - points[cell.vertices[v]];
-          dealii::Tensor<1, 2> along_y = points[cell.vertices[v ^ 2]] - points[cell.vertices[v]];
-          if (v & 1)
-            along_x *= -1.;
-          if (v & 2)
-            along_y *= -1.;
-          if (along_x[0] * along_y[1] - along_x[1] * along_y[0] <= 0)
-            return true;
-        }
-      return false;
+      return scaled_jacobian<2>({{points[cell.vertices[0]], points[cell.vertices[1]], points[cell.vertices[2]],
+                                  points[cell.vertices[3]]}}) <= 0;
     }
 
     /// The new mesh (with pairs a-m-b if @p pair), or none if Gmsh's cells

@@ -291,10 +291,10 @@ namespace dieflow
 
   template <int dim>
   double
-  scaled_jacobian(const typename dealii::Triangulation<dim>::cell_iterator &cell)
+  scaled_jacobian(const std::array<dealii::Point<dim>, (1u << dim)> &vertices)
   {
     double smallest = std::numeric_limits<double>::max();
-    for (const unsigned int v : cell->vertex_indices())
+    for (unsigned int v = 0; v < vertices.size(); ++v)
       {
         // Lexicographic vertices: the edge along axis d joins v and v ^ 2^d,
         // pointing towards +xi_d.
@@ -302,8 +302,7 @@ namespace dieflow
         double                 lengths = 1;
         for (unsigned int d = 0; d < dim; ++d)
           {
-            const unsigned int     other = v ^ (1u << d);
-            dealii::Tensor<1, dim> edge  = cell->vertex(other) - cell->vertex(v);
+            dealii::Tensor<1, dim> edge = vertices[v ^ (1u << d)] - vertices[v];
             if (v & (1u << d))
               edge *= -1.;
             for (unsigned int i = 0; i < dim; ++i)
@@ -313,6 +312,18 @@ namespace dieflow
         smallest = std::min(smallest, lengths > 0 ? dealii::determinant(J) / lengths : 0.);
       }
     return smallest;
+  }
+
+
+
+  template <int dim>
+  double
+  scaled_jacobian(const typename dealii::Triangulation<dim>::cell_iterator &cell)
+  {
+    std::array<dealii::Point<dim>, (1u << dim)> vertices;
+    for (const unsigned int v : cell->vertex_indices())
+      vertices[v] = cell->vertex(v);
+    return scaled_jacobian<dim>(vertices);
   }
 
 
@@ -349,6 +360,10 @@ namespace dieflow
   domain_volume(const CoordinateSystem<2> &, const dealii::Triangulation<2> &);
   template double
   domain_volume(const CoordinateSystem<3> &, const dealii::Triangulation<3> &);
+  template double
+  scaled_jacobian<2>(const std::array<dealii::Point<2>, 4> &);
+  template double
+  scaled_jacobian<3>(const std::array<dealii::Point<3>, 8> &);
   template double
   scaled_jacobian<2>(const dealii::Triangulation<2>::cell_iterator &);
   template double

@@ -8,6 +8,7 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/vector.h>
 
+#include <array>
 #include <map>
 #include <set>
 #include <string>
@@ -159,6 +160,11 @@ namespace dieflow
   template <int dim>
   double
   scaled_jacobian(const typename dealii::Triangulation<dim>::cell_iterator &cell);
+
+  /// The same for a cell given by its vertices in lexicographic order.
+  template <int dim>
+  double
+  scaled_jacobian(const std::array<dealii::Point<dim>, (1u << dim)> &vertices);
 } // namespace dieflow
 
 #endif
