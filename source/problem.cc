@@ -1,5 +1,6 @@
 #include <dieflow/expressions.h>
 #include <dieflow/flow/pressure_projection.h>
+#include <dieflow/incremental/mesh_transfer.h>
 #include <dieflow/interrupt.h>
 #include <dieflow/mesh/singular_points.h>
 #include <dieflow/postprocess/atomic_file.h>
@@ -1593,96 +1594,15 @@ namespace dieflow
     };
     const NewMesh new_mesh = remesh_domain(triangulation, fresh, remeshing.boundary_edge_length, edge_out_of_its_die, "Incremental/Remesh below Jacobian");
 
-    // The velocity at the new mesh's nodes (the next solve's first iterate),
-    // and the strain at its cell centres: the old cell there gives its value.
-    // The cache's search (the cells of the nearest vertex) misses a point
-    // whose cell is long and thin, as moved cells near a crowded boundary
-    // are; the search that widens over the neighbours then finds it. A step
-    // can fold the cells at a die's corner (the metal turning round the
-    // exit D) before the new mesh comes, and a point may lie in the gap of
-    // the fold, in no cell: the nearest vertex's cells give their value at
-    // the nearest point of the one nearest to it (counted and said).
-    const dealii::GridTools::Cache<dim> cache(triangulation);
-    unsigned int                        in_folds        = 0;
-    const auto                          old_cell_around = [&](const Point<dim> &p) {
-      auto found = dealii::GridTools::find_active_cell_around_point(cache, p);
-      if (found.first.state() != dealii::IteratorState::valid)
-        found = dealii::GridTools::find_active_cell_around_point(cache.get_mapping(), triangulation, p);
-      if (found.first.state() == dealii::IteratorState::valid)
-        return found;
-      const unsigned int vertex = dealii::GridTools::find_closest_vertex(cache.get_mapping(), triangulation, p);
-      double             nearest = std::numeric_limits<double>::infinity();
-      for (const auto &cell : cache.get_vertex_to_cell_map()[vertex])
-        try
-          {
-            const Point<dim> unit     = cache.get_mapping().transform_real_to_unit_cell(cell, p);
-            const double     distance = dealii::GeometryInfo<dim>::distance_to_unit_cell(unit);
-            if (distance < nearest)
-              {
-                nearest = distance;
-                found   = {cell, dealii::GeometryInfo<dim>::project_to_unit_cell(unit)};
-              }
-          }
-        catch (const typename dealii::Mapping<dim>::ExcTransformationFailed &)
-          {}
-      if (found.first.state() != dealii::IteratorState::valid)
-        {
-          std::ostringstream where;
-          where << "Incremental/Remesh below Jacobian: a point of the new mesh, (" << p
-                << "), lies in no cell of the moved mesh before step " << n
-                << " (the move tangled the cells there); lower Incremental/Time step, or raise Remesh below "
-                   "Jacobian (new meshes sooner)";
-          throw InputError(where.str());
-        }
-      ++in_folds;
-      return found;
-    };
+    // The velocity (the next solve's first iterate) and the strain go over
+    // to the new mesh.
     dealii::DoFHandler<dim> fresh_dofs(fresh);
     fresh_dofs.distribute_dofs(fe);
-    const auto at_new_nodes = [&](const Vector<double> &nodal) {
-      if (nodal.size() != dof_handler.n_dofs())
-        return Vector<double>();
-      Vector<double>                                    values(fresh_dofs.n_dofs());
-      std::vector<bool>                                 done(fresh_dofs.n_dofs(), false);
-      std::vector<dealii::types::global_dof_index>      fresh_indices(fe.n_dofs_per_cell()), old_indices(fe.n_dofs_per_cell());
-      const std::vector<Point<dim>> &                   unit_support = fe.get_unit_support_points();
-      for (const auto &cell : fresh_dofs.active_cell_iterators())
-        {
-          cell->get_dof_indices(fresh_indices);
-          for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
-            if (!done[fresh_indices[i]])
-              {
-                const Point<dim> p = cache.get_mapping().transform_unit_to_real_cell(cell, unit_support[i]);
-                const auto [old, unit] = old_cell_around(p);
-                typename dealii::DoFHandler<dim>::active_cell_iterator(&triangulation, old->level(), old->index(),
-                                                                        &dof_handler)
-                  ->get_dof_indices(old_indices);
-                const unsigned int component = fe.system_to_component_index(i).first;
-                double             value     = 0;
-                for (unsigned int j = 0; j < fe.n_dofs_per_cell(); ++j)
-                  value += nodal[old_indices[j]] * fe.shape_value_component(j, unit, component);
-                values[fresh_indices[i]] = value;
-                done[fresh_indices[i]]   = true;
-              }
-        }
-      return values;
-    };
-    const Vector<double>      fresh_velocity          = at_new_nodes(velocity);
-    const unsigned int        nodes_in_folds          = in_folds;
-    const Vector<double>      fresh_previous_velocity = at_new_nodes(previous_velocity);
-    in_folds                                          = nodes_in_folds; // the same nodes
-    std::vector<unsigned int> old_cell(fresh.n_active_cells());
-    for (const auto &cell : fresh.active_cell_iterators())
-      old_cell[cell->active_cell_index()] = old_cell_around(cell->center()).first->active_cell_index();
-    const auto at_new_cells = [&](const Vector<double> &per_cell) {
-      Vector<double> values(old_cell.size());
-      if (per_cell.size() == triangulation.n_active_cells())
-        for (unsigned int c = 0; c < old_cell.size(); ++c)
-          values[c] = per_cell[old_cell[c]];
-      return values;
-    };
-    const Vector<double> fresh_strain             = at_new_cells(equivalent_strain);
-    const Vector<double> fresh_previous_rate      = at_new_cells(previous_strain_rate);
+    const MeshTransfer<dim> transfer(dof_handler, fresh_dofs, "before step " + std::to_string(n));
+    const Vector<double>    fresh_velocity          = transfer.nodal(velocity);
+    const Vector<double>    fresh_previous_velocity = transfer.nodal(previous_velocity);
+    const Vector<double>    fresh_strain            = transfer.per_cell(equivalent_strain);
+    const Vector<double>    fresh_previous_rate     = transfer.per_cell(previous_strain_rate);
 
     // The ram's stroke goes on from where it is.
     ram_offset = ram_displacement();
@@ -1715,8 +1635,8 @@ namespace dieflow
         << " cells, volume change " << std::setprecision(2) << record.volume_change << std::setprecision(6);
     if (record.dropped_vertices > 0)
       log << ", " << record.dropped_vertices << " crowding boundary vertices dropped";
-    if (in_folds > 0)
-      log << ", " << in_folds << " new nodes or cell centres in folded cells (the nearest cell's values)";
+    if (transfer.n_in_folds() > 0)
+      log << ", " << transfer.n_in_folds() << " new nodes or cell centres in folded cells (the nearest cell's values)";
     log << std::endl;
   }
 
