@@ -1572,6 +1572,7 @@ namespace dieflow
     record.cells_before             = triangulation.n_active_cells();
     record.jacobian_before          = jacobian_before;
     const double volume_before      = domain_volume(coordinates, triangulation);
+    const Point<dim> worst_before   = worst_cell_centre(triangulation);
     dealii::Triangulation<dim> fresh;
     // A die face's edge that cuts a die's corner (from the die face to the
     // land past the exit D) lies in the die: pieces of it would be nodes in
@@ -1630,7 +1631,8 @@ namespace dieflow
     last_remesh           = record;
     steps_since_remesh    = 0;
     log << "  new mesh before step " << n << " (t = " << std::setprecision(6) << time_stepping.time(n)
-        << " s): smallest scaled Jacobian " << std::setprecision(3) << record.jacobian_before << " -> "
+        << " s): smallest scaled Jacobian " << std::setprecision(3) << record.jacobian_before << " (the cell at "
+        << worst_before << ") -> "
         << record.jacobian_after << ", " << record.cells_before << " -> " << record.cells_after
         << " cells, volume change " << std::setprecision(2) << record.volume_change << std::setprecision(6);
     if (record.dropped_vertices > 0)

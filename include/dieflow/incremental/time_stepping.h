@@ -156,6 +156,11 @@ namespace dieflow
   double
   smallest_scaled_jacobian(const dealii::Triangulation<dim> &triangulation);
 
+  /// The centre of a cell of smallest scaled Jacobian (where a mesh went bad: the log's).
+  template <int dim>
+  dealii::Point<dim>
+  worst_cell_centre(const dealii::Triangulation<dim> &triangulation);
+
   /// The same for one cell: the smallest over its vertices.
   template <int dim>
   double
