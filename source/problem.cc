@@ -1637,6 +1637,8 @@ namespace dieflow
         << " cells, volume change " << std::setprecision(2) << record.volume_change << std::setprecision(6);
     if (record.dropped_vertices > 0)
       log << ", " << record.dropped_vertices << " crowding boundary vertices dropped";
+    if (!new_mesh.attempt.empty())
+      log << ", Gmsh's first attempt failed, made with " << new_mesh.attempt;
     if (transfer.n_in_folds() > 0)
       log << ", " << transfer.n_in_folds() << " new nodes or cell centres in folded cells (the nearest cell's values)";
     log << std::endl;

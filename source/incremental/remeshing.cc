@@ -265,16 +265,26 @@ namespace dieflow
                                   points[cell.vertices[3]]}}) <= 0;
     }
 
-    /// The new mesh (with pairs a-m-b if @p pair), or none if Gmsh's cells
-    /// came out tangled.
+    /// How Gmsh is asked for a new mesh: its triangulation algorithm
+    /// (Mesh.Algorithm), and whether the boundary goes to it in pairs a-m-b.
+    struct MeshingAttempt
+    {
+      int         algorithm;
+      bool        pair;
+      const char *name;
+    };
+
+    /// The new mesh (with pairs a-m-b if @p attempt says so), or none if
+    /// Gmsh's cells came out tangled.
     std::optional<NewMesh>
     remesh_polygon(const dealii::Triangulation<2> &old,
                    dealii::Triangulation<2> &      fresh,
                    const double                    longest_edge,
                    const EdgeFilter<2> &           may_cut,
-                   const bool                      pair,
+                   const MeshingAttempt &          attempt,
                    const std::string &             entry)
     {
+      const bool pair = attempt.pair;
       const std::vector<dealii::Point<2>>    x     = old.get_vertices();
       std::vector<std::vector<BoundaryEdge>> loops = boundary_loops(old, entry);
       // The outer loop first (the largest counter-clockwise one), then the holes.
@@ -324,7 +334,7 @@ namespace dieflow
       for (const auto &[line, group] : group_of_line)
         gmsh::model::mesh::setTransfiniteCurve(line, group.segments + 1);
       gmsh::model::mesh::setRecombine(2, surface);
-      gmsh::option::setNumber("Mesh.Algorithm", 6);              // Frontal-Delaunay
+      gmsh::option::setNumber("Mesh.Algorithm", attempt.algorithm);
       gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1); // Blossom
       // Blossom may leave triangles; splitting every cell (a quadrilateral
       // into 4, a triangle into 3) leaves none, and halves every line.
@@ -473,23 +483,36 @@ namespace dieflow
   {
     if constexpr (dim == 2)
       {
-        try
-          {
-            // Gmsh's cells can come out tangled (in the extrusion start with
-            // dt 0.1 ms, at step 114, 3 of 13038 went round the other way):
-            // then every boundary edge is a line of its own, split at its
-            // midpoint, and Gmsh meshes again.
-            for (const bool pair : {true, false})
-              if (auto made = remesh_polygon(old, fresh, longest_edge, may_cut, pair, entry))
-                return *made;
-            throw InputError(entry + ": Gmsh's new mesh of the domain has tangled cells (a corner of the boundary "
-                             "too sharp for its cells); lower Incremental/Time step, or raise Remesh below "
-                             "Jacobian");
-          }
-        catch (const std::string &gmsh_error)
-          {
-            throw InputError(entry + ": Gmsh could not mesh the domain anew: " + gmsh_error);
-          }
+        // Gmsh's cells can come out tangled (in the extrusion start with
+        // dt 0.1 ms, at step 114, 3 of 13038 went round the other way), or
+        // Gmsh can fail to recover a boundary edge: then Gmsh meshes again,
+        // with another algorithm, and last with every boundary edge a line
+        // of its own, split at its midpoint (which keeps the boundary twice
+        // as fine: four times the cells).
+        static constexpr MeshingAttempt attempts[] = {{6, true, "Frontal-Delaunay"},
+                                                      {5, true, "Delaunay"},
+                                                      {8, true, "Frontal-Delaunay for quads"},
+                                                      {6, false, "every boundary edge a line of its own"}};
+        std::string first_error;
+        for (const MeshingAttempt &attempt : attempts)
+          try
+            {
+              if (auto made = remesh_polygon(old, fresh, longest_edge, may_cut, attempt, entry))
+                {
+                  made->attempt = &attempt == attempts ? "" : attempt.name;
+                  return *made;
+                }
+            }
+          catch (const std::string &gmsh_error)
+            {
+              if (first_error.empty())
+                first_error = gmsh_error;
+            }
+        throw InputError(entry + ": Gmsh could not make a new mesh of the domain" +
+                         (first_error.empty() ? std::string(": its cells came out tangled (a corner of the boundary too "
+                                                            "sharp for its cells)") :
+                                                ": " + first_error) +
+                         "; lower Incremental/Time step, or raise Remesh below Jacobian");
       }
     else
       {

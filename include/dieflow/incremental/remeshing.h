@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <string>
 
 namespace dieflow
 {
@@ -71,6 +72,8 @@ namespace dieflow
     /// Boundary vertices that crowded their neighbours, dropped (see
     /// remesh_domain()).
     unsigned int dropped_vertices = 0;
+    /// How Gmsh made it, if not at the first attempt (remesh_domain()).
+    std::string  attempt;
   };
 
   /**
@@ -111,8 +114,10 @@ namespace dieflow
    * reduction). The cell size at each point is the mean length of its two
    * lines, which Gmsh interpolates inside. Cells take the material id of
    * @p old's first cell. If Gmsh's cells come out tangled (a cell gone
-   * round the other way, or a corner of no angle), the domain is meshed
-   * again with every edge a line of its own.
+   * round the other way, or a corner of no angle), or Gmsh fails, the
+   * domain is meshed again with Gmsh's Delaunay, then its Frontal-Delaunay
+   * for quadrilaterals, and last with every edge a line of its own
+   * (NewMesh::attempt says which).
    *
    * Throws InputError naming @p entry if Gmsh fails, its mesh is not the
    * old boundary's, or it is tangled even so.
