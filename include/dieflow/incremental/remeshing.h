@@ -119,8 +119,8 @@ namespace dieflow
    * for quadrilaterals, and last with every edge a line of its own
    * (NewMesh::attempt says which).
    *
-   * Throws InputError naming @p entry if Gmsh fails, its mesh is not the
-   * old boundary's, or it is tangled even so.
+   * Throws InputError naming @p entry if every attempt fails (Gmsh's
+   * error, or tangled cells), or Gmsh's mesh is not the old boundary's.
    */
   template <int dim>
   NewMesh
