@@ -1817,10 +1817,26 @@ namespace dieflow
             if (incremental)
               {
                 advance_configuration(cycle - 1);
-                const double jacobian = remeshing.enabled() ? smallest_scaled_jacobian(triangulation) : 1.;
+                const double jacobian = smallest_scaled_jacobian(triangulation);
                 if (remeshing.enabled() &&
                     remeshing.due(jacobian, ++steps_since_remesh, last_remesh ? last_remesh->jacobian_after : 1.))
                   remesh(cycle, jacobian);
+                // Without new meshes the run would go on with cells turned
+                // inside out, and forces of no meaning (the extrusion start
+                // without them: ram force 579-5572 N/mm, exit 0). A corner a
+                // little past straight (a cell squeezed to a triangle where a
+                // side folds onto a platen, a fold's round-off) leaves every
+                // quadrature point's Jacobian positive: the run goes on.
+                if (!remeshing.enabled() && !(jacobian > -0.1))
+                  {
+                    std::ostringstream where;
+                    where << std::setprecision(3) << "the move to step " << cycle
+                          << " turned cells inside out (smallest scaled Jacobian "
+                          << jacobian << ", the cell at " << worst_cell_centre(triangulation)
+                          << "); set it (about 0.2-0.3) for new meshes when cells degrade (2D), or lower "
+                             "Incremental/Time step";
+                    throw InputError("Incremental/Remesh below Jacobian: " + where.str());
+                  }
               }
             else
               refine_mesh();
