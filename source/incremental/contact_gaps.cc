@@ -86,7 +86,9 @@ namespace dieflow
     {
       std::vector<dealii::Triangulation<2>::active_cell_iterator> around;
       dealii::Point<2> *                                           position = nullptr;
-      for (const auto &cell : triangulation.active_cell_iterators())
+      // (Cells with v as a hanging vertex are left out: moving v moves only
+      // the cells whose corner it is.)
+      for (const auto &cell : dealii::GridTools::find_cells_adjacent_to_vertex(triangulation, v))
         for (const unsigned int k : cell->vertex_indices())
           if (cell->vertex_index(k) == v)
             {

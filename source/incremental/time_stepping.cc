@@ -356,29 +356,35 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The smallest scaled Jacobian of the mesh's cells and a cell that has it.
+    template <int dim>
+    std::pair<double, typename dealii::Triangulation<dim>::active_cell_iterator>
+    worst_cell(const dealii::Triangulation<dim> &triangulation)
+    {
+      std::pair<double, typename dealii::Triangulation<dim>::active_cell_iterator> worst(
+        std::numeric_limits<double>::max(), {});
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (const double jacobian = scaled_jacobian<dim>(cell); jacobian < worst.first)
+          worst = {jacobian, cell};
+      return worst;
+    }
+  } // namespace
+
   template <int dim>
   double
   smallest_scaled_jacobian(const dealii::Triangulation<dim> &triangulation)
   {
-    double smallest = std::numeric_limits<double>::max();
-    for (const auto &cell : triangulation.active_cell_iterators())
-      smallest = std::min(smallest, scaled_jacobian<dim>(cell));
-    return smallest;
+    return worst_cell(triangulation).first;
   }
 
   template <int dim>
   dealii::Point<dim>
   worst_cell_centre(const dealii::Triangulation<dim> &triangulation)
   {
-    double             smallest = std::numeric_limits<double>::max();
-    dealii::Point<dim> centre;
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (const double jacobian = scaled_jacobian<dim>(cell); jacobian < smallest)
-        {
-          smallest = jacobian;
-          centre   = cell->center();
-        }
-    return centre;
+    const auto worst = worst_cell(triangulation);
+    return worst.second.state() == dealii::IteratorState::valid ? worst.second->center() : dealii::Point<dim>();
   }
 
   template class FixedWalls<2>;
