@@ -4,6 +4,7 @@
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
+#include <deal.II/lac/vector_memory.h>
 
 namespace dieflow
 {
@@ -256,10 +257,16 @@ namespace dieflow
       }
     catch (const dealii::SolverControl::NoConvergence &)
       {}
-    info.iterations       = control.last_step();
-    info.inner_iterations = velocity_inverse.iterations;
+    info.iterations         = control.last_step();
+    info.inner_iterations   = velocity_inverse.iterations;
+    info.residual_reduction = control.last_value() / b.l2_norm();
     du = x.block(0);
     op.scale_pressure(dp, x.block(1));
+    // deal.II's solvers take their Krylov vectors from a pool that keeps
+    // them, once returned, until the program ends: 32 block vectors, a
+    // quarter of the peak heap at 64 cells across (heaptrack: 82 of 332 MB),
+    // held while the next Newton step assembles and sets up its multigrid.
+    dealii::GrowingVectorMemory<dealii::BlockVector<double>>::release_unused_memory();
     return info;
   }
 

@@ -57,6 +57,7 @@ namespace dieflow
     std::vector<double>                       coarse_modes;
     dealii::SparsityPattern                   embedding_pattern;
     dealii::SparseMatrix<double>              embedding;
+    /// Kept per mesh; the matrices A P and A_1 hold values only during initialize().
     dealii::SparsityPattern                   product_pattern, coarse_pattern;
     dealii::SparseMatrix<double>              product, coarse_matrix;
     bool                                      patterns_built = false;

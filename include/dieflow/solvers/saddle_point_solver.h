@@ -58,6 +58,8 @@ namespace dieflow
       unsigned int iterations = 0;
       /// With an inner solve: its iterations, summed over the outer ones.
       unsigned int inner_iterations = 0;
+      /// The scaled residual at the end over the scaled right-hand side.
+      double residual_reduction = 1;
     };
 
     /**
