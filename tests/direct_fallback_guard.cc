@@ -7,7 +7,9 @@
 //    N^(4/3), 2^(4/3) = 2.52 per doubling);
 //  - 3D with 10 million unknowns (some 2.8 TB by the estimate, beyond any
 //    machine this runs on) throws ResourceFailure naming the remedy;
-//  - 2D with 1,000 unknowns (5 MB) passes.
+//  - 2D with 1,000 unknowns (5 MB) passes;
+//  - direct_fallback_fits(), which decides whether a mixed-form solve that
+//    stopped short is taken as a partial step, answers as the guard does.
 #include <dieflow/solvers/linear_solver.h>
 
 #include "report.h"
@@ -49,4 +51,6 @@ main()
       small_fits = false;
     }
   report("2D, 1,000 unknowns: the fallback is allowed", small_fits);
+  report("direct_fallback_fits() answers as the guard: no for 10 million in 3D, yes for 1,000 in 2D",
+         !LinearSolver::direct_fallback_fits(3, 10000000) && LinearSolver::direct_fallback_fits(2, 1000));
 }

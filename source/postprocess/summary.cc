@@ -239,7 +239,8 @@ namespace dieflow
             << ", \"iterative_solves\": " << s.linear_counts.iterative_solves
             << ", \"krylov_iterations\": " << s.linear_counts.krylov_iterations
             << ", \"inner_iterations\": " << s.linear_counts.inner_iterations
-            << ", \"direct_fallbacks\": " << s.linear_counts.direct_fallbacks << "},\n"
+            << ", \"direct_fallbacks\": " << s.linear_counts.direct_fallbacks
+            << ", \"partial_steps\": " << s.linear_counts.partial_steps << "},\n"
             << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"
             << "      \"flux\": " << id_map(s.flux, number) << ",\n"
             << "      \"boundary_area\": " << id_map(s.boundary_area, number) << ",\n"

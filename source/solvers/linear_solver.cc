@@ -460,19 +460,39 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The kernel's MemAvailable in bytes; 0 where there is no such figure (not Linux).
+    double
+    available_memory()
+    {
+      std::ifstream meminfo("/proc/meminfo");
+      std::string   key;
+      double        kilobytes = 0;
+      while (meminfo >> key >> kilobytes && key != "MemAvailable:")
+        meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+      return key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
+    }
+  } // namespace
+
+
+
+  bool
+  LinearSolver::direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs)
+  {
+    const double available = available_memory();
+    return available == 0 || direct_memory_estimate(dim, n_dofs) <= available;
+  }
+
+
+
   void
   LinearSolver::require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs)
   {
-    std::ifstream meminfo("/proc/meminfo");
-    std::string   key;
-    double        kilobytes = 0;
-    while (meminfo >> key >> kilobytes && key != "MemAvailable:")
-      meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-    if (key != "MemAvailable:" || kilobytes <= 0)
-      return; // Not Linux, or no figure: nothing to compare with.
-    const double needed = direct_memory_estimate(dim, n_dofs), available = 1024. * kilobytes;
-    if (needed <= available)
-      return;
+    const double available = available_memory();
+    const double needed    = direct_memory_estimate(dim, n_dofs);
+    if (available == 0 || needed <= available)
+      return; // Fits, or no figure to compare with.
     std::ostringstream message;
     message << std::fixed << std::setprecision(1) << "the iterative linear solver did not converge, and its direct "
             << "fallback for " << n_dofs << " unknowns would need about " << needed / 1e9 << " GB, more than the "

@@ -32,6 +32,10 @@ namespace dieflow
     /// Degree 2 with an inner solve of the velocity block: its iterations.
     unsigned int inner_iterations = 0;
     unsigned int direct_fallbacks  = 0;
+    /// Degree 2: solves that stopped short of their tolerance (residual
+    /// reduced at least tenfold) taken as inexact Newton steps, where the
+    /// direct fallback would not have fitted in memory.
+    unsigned int partial_steps = 0;
     /// Direct solver: orderings with symbolic factorisations (one per mesh
     /// and kind when the reuse works), and numeric factorisations by kind.
     unsigned int symbolic_analyses       = 0;

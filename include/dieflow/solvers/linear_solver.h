@@ -119,6 +119,12 @@ namespace dieflow
     static void
     require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
 
+    /// Whether the direct fallback for @p n_dofs unknowns fits in the
+    /// memory free now (true where the free memory is not known), as
+    /// require_direct_fallback_fits() judges it.
+    static bool
+    direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
+
     /// Solves @p matrix x = @p rhs iteratively, or, if that fails, directly
     /// (for a mesh of dimension @p dim, where that fits in memory).
     void
