@@ -16,14 +16,26 @@ iterative method is faster), if any.
              block (Velocity block = inner solve) and flexible GMRES
 
 Each run is a process of its own (peak memory is that run's) with a time
-limit; an iterative size that exceeds it ends the iterative series.
+limit; a method that exceeds it at one size is not run at the larger ones.
+The methods take turns at each size (direct, iterative, then the next
+size), so that a machine whose speed drifts during the study (a shared
+one) slows both alike and the crossover compares like with like.
 
     benchmarks/die2d_solvers.py [--across 24,48,96,144,212] [--limit 900]
                                 [--degree 1] [--methods direct,iterative]
-                                [--extra 'deck text'] [--program build/dieflow]
+                                [--nested] [--extra 'deck text']
+                                [--program build/dieflow]
 
 (--extra: entries appended to the deck, e.g. another material, penalty or
-friction, for the iteration-count tables.)
+friction, for the iteration-count tables. --nested: each size is run as
+two cycles, half the cells across and then its global refinement, so that
+the fine mesh starts from the coarse answer; the figures are those of the
+whole run, the unknowns the fine mesh's.)
+
+Memory is also given per unknown (peak KB per unknown, KB = 1024 bytes,
+as the kernel counts it). The growth exponent is
+fitted to the sizes from 40,000 unknowns on, where set-up costs no longer
+dominate.
 
 Not a test: the figures depend on the machine, which the report names.
 """
@@ -40,16 +52,20 @@ def run(program, base, across, method, limit):
     if result is None:
         return None
     status, s = result
-    c = s["cycles"][0]
-    return dict(status=status, dofs=c["dofs"], its=c["nonlinear_iterations"], solves=c["linear_solves"],
-                krylov=c["linear_solver"]["krylov_iterations"],
-                inner=c["linear_solver"].get("inner_iterations", 0), fallbacks=c["linear_solver"]["direct_fallbacks"],
-                wall=time.time() - start, solve=s["stage_wall_time"].get("linear solve", 0),
-                memory=s["peak_memory_mb"], ram=c["boundary_force"]["1"][0], div=c["divergence_ratio"])
+    cycles = s["cycles"]
+    c = cycles[-1]
+    total = lambda key: sum(k["linear_solver"].get(key, 0) for k in cycles)
+    return dict(status=status, dofs=c["dofs"], its=sum(k["nonlinear_iterations"] for k in cycles),
+                solves=sum(k["linear_solves"] for k in cycles), krylov=total("krylov_iterations"),
+                inner=total("inner_iterations"), fallbacks=total("direct_fallbacks"),
+                partial=total("partial_steps"), wall=time.time() - start,
+                solve=s["stage_wall_time"].get("linear solve", 0), memory=s["peak_memory_mb"],
+                ram=c["boundary_force"]["1"][0], div=c["divergence_ratio"])
 
 
-def exponent(rows):
-    """Least-squares slope of log(wall) against log(dofs)."""
+def exponent(rows, from_dofs=40000):
+    """Least-squares slope of log(wall) against log(dofs), over the sizes from @p from_dofs on."""
+    rows = [r for r in rows if r["dofs"] >= from_dofs]
     if len(rows) < 2:
         return float("nan")
     x = [math.log(r["dofs"]) for r in rows]
@@ -58,19 +74,21 @@ def exponent(rows):
     return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
 
 
-def ungraded_die2d(root, degree, extra=""):
+def ungraded_die2d(root, degree, extra="", cycles=1):
     """The default deck as doc/benchmarks.md measured the solvers: the
-    built-in mesh without corner grading, one mesh per run, velocity degree
-    @p degree, plus the deck text @p extra."""
+    built-in mesh without corner grading, velocity degree @p degree, plus
+    the deck text @p extra; one mesh per run, or @p cycles meshes, each the
+    global refinement of the one before."""
     # The deck refuses an entry set twice: the entries set here and in
     # extra leave the default deck first.
-    own = {"Corner refinements", "Velocity degree", "Cycles", "Cells across", "Layout", "Output directory", "Write VTU"}
+    own = {"Corner refinements", "Velocity degree", "Cycles", "Strategy", "Cells across", "Layout", "Output directory",
+           "Write VTU"}
     own |= set(re.findall(r"set\s+([^=\n]+?)\s*=", extra))
     base = "".join(line for line in open(os.path.join(root, "parameters", "die2d.prm")).readlines()
                    if not any(re.match(r"\s*set\s+%s\s*=" % re.escape(key), line) for key in own))
     return base + ("\nsubsection Mesh\n  set Corner refinements = 0\n  subsection Die2d\n    set Layout = blocks\n"
                    "  end\nend\nsubsection Discretisation\n  set Velocity degree = %d\nend\n"
-                   "subsection Refinement\n  set Cycles = 1\nend\n" % degree) + extra
+                   "subsection Refinement\n  set Cycles = %d\n  set Strategy = global\nend\n" % (degree, cycles)) + extra
 
 
 def main():
@@ -83,33 +101,45 @@ def main():
     parser.add_argument("--degree", type=int, default=1)
     parser.add_argument("--methods", default="direct,iterative")
     parser.add_argument("--extra", default="")
+    parser.add_argument("--nested", action="store_true")
     args = parser.parse_args()
-    base = ungraded_die2d(root, args.degree, args.extra.replace("\\n", "\n") + "\n")
+    base = ungraded_die2d(root, args.degree, args.extra.replace("\\n", "\n") + "\n", 2 if args.nested else 1)
 
-    print("die2d N1 (Newtonian, contact with Coulomb friction), velocity degree %d, one mesh per run" % args.degree)
+    print("die2d N1 (Newtonian, contact with Coulomb friction), velocity degree %d, %s" % (
+        args.degree, "two cycles per run: half the cells across, then refined globally" if args.nested else
+        "one mesh per run"))
     if args.extra:
         print("deck additions: " + args.extra)
     print("machine: " + machine())
     print()
     print("| method | cells across | dofs | exit | Newton its | linear solves | Krylov its | inner its | direct fallbacks "
-          "| wall [s] | linear solve [s] | peak memory [MB] | ram force [N/mm] | divergence ratio |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    results = {m: [] for m in args.methods.split(",")}
-    for method in results:
-        for across in [int(a) for a in args.across.split(",")]:
-            r = run(args.program, base, across, method, args.limit)
+          "| partial steps | wall [s] | linear solve [s] | peak memory [MB] | KB per unknown | ram force [N/mm] "
+          "| divergence ratio |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    results = {m: {} for m in args.methods.split(",")}
+    stopped = set()
+    for across in [int(a) for a in args.across.split(",")]:
+        for method in results:
+            if method in stopped:
+                continue
+            r = run(args.program, base, across // 2 if args.nested else across, method, args.limit)
             if r is None:
-                print("| %s | %d | | over %.0f s | | | | | | | | | | |" % (method, across, args.limit), flush=True)
-                break
-            results[method].append(r)
-            print("| %s | %d | %d | %d | %d | %d | %d | %d | %d | %.2f | %.2f | %.0f | %.2f | %.1e |" % (
+                print("| %s | %d | | over %.0f s | | | | | | | | | | | | |" % (method, across, args.limit), flush=True)
+                stopped.add(method)
+                continue
+            results[method][across] = r
+            print("| %s | %d | %d | %d | %d | %d | %d | %d | %d | %d | %.2f | %.2f | %.0f | %.2f | %.2f | %.1e |" % (
                 method, across, r["dofs"], r["status"], r["its"], r["solves"], r["krylov"], r["inner"], r["fallbacks"],
-                r["wall"], r["solve"], r["memory"], r["ram"], r["div"]), flush=True)
+                r["partial"], r["wall"], r["solve"], r["memory"], 1024 * r["memory"] / r["dofs"],
+                r["ram"], r["div"]), flush=True)
     print()
     for method, rows in results.items():
-        print("%s: wall time grows as N^%.2f over %d sizes" % (method, exponent(rows), len(rows)))
+        fitted = [r for r in rows.values() if r["dofs"] >= 40000]
+        print("%s: wall time grows as N^%.2f over the %d sizes from 40,000 unknowns" % (
+            method, exponent(list(rows.values())), len(fitted)))
     for method in [m for m in results if m != "direct"]:
-        crossover = [i["dofs"] for d, i in zip(results.get("direct", []), results[method]) if i["wall"] < d["wall"]]
+        both = [a for a in results[method] if a in results.get("direct", {})]
+        crossover = [results[method][a]["dofs"] for a in both if results[method][a]["wall"] < results["direct"][a]["wall"]]
         print("crossover, %s: " % method + ("faster than direct from %d dofs" % crossover[0] if crossover else
                                             "none: the direct method is faster at every size both ran"))
 
