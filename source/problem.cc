@@ -752,6 +752,11 @@ namespace dieflow
                               !LinearSolver::direct_fallback_fits(dim, system_matrix.m());
     if (partial_step)
       ++linear_solver.counts.partial_steps;
+    std::ostringstream line;
+    line << "           GMRES " << info.iterations << " iterations, residual " << std::scientific << std::setprecision(1)
+         << info.residual_reduction << " of its start (asked " << tolerance << ")"
+         << (info.converged ? "" : partial_step ? ": stopped short, taken as a partial step" : ": stopped short");
+    log << line.str() << std::endl;
     if (info.converged || partial_step)
       {
         // dq = dp - lambda M^-1 B du.
