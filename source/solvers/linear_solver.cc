@@ -460,20 +460,16 @@ namespace dieflow
 
 
 
-  namespace
+  double
+  LinearSolver::available_memory()
   {
-    /// The kernel's MemAvailable in bytes; 0 where there is no such figure (not Linux).
-    double
-    available_memory()
-    {
-      std::ifstream meminfo("/proc/meminfo");
-      std::string   key;
-      double        kilobytes = 0;
-      while (meminfo >> key >> kilobytes && key != "MemAvailable:")
-        meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-      return key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
-    }
-  } // namespace
+    std::ifstream meminfo("/proc/meminfo");
+    std::string   key;
+    double        kilobytes = 0;
+    while (meminfo >> key >> kilobytes && key != "MemAvailable:")
+      meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    return key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
+  }
 
 
 

@@ -6,10 +6,17 @@
 #include <deal.II/lac/solver_gmres.h>
 #include <deal.II/lac/vector_memory.h>
 
+#include <dieflow/solvers/linear_solver.h>
+
+#include <algorithm>
+
 namespace dieflow
 {
   namespace
   {
+    /// The restart length a solve goes on with after as many iterations with a short one.
+    constexpr unsigned int long_restart = 100;
+
     /// The scaled mixed operator [A, B^T S; S B, -S C S] (S = diag(s_K)).
     template <int dim>
     class MixedOperator
@@ -169,6 +176,20 @@ namespace dieflow
       mutable dealii::Vector<double>                   pressure;
       mutable dealii::Vector<double>                   residual;
     };
+    /**
+     * The restart length, up to long_restart, whose Krylov vectors (of the
+     * size of @p x) fit in half the memory free now; at least @p shortest.
+     */
+    unsigned int
+    affordable_restart(const dealii::BlockVector<double> &x, const unsigned int shortest)
+    {
+      const double available = LinearSolver::available_memory();
+      if (available == 0)
+        return long_restart;
+      const double per_vector = sizeof(double) * static_cast<double>(x.size());
+      const double fitting    = 0.5 * available / per_vector - 2;
+      return std::max(shortest, static_cast<unsigned int>(std::min<double>(long_restart, std::max(0., fitting))));
+    }
   } // namespace
 
 
@@ -236,30 +257,49 @@ namespace dieflow
                                                      max_inner_iterations);
     const BlockTriangularPreconditioner<dim> preconditioner(op, velocity_inverse);
 
-    dealii::SolverControl control(max_iterations, target, false, false);
-    try
-      {
-        if (inner_tolerance == 0)
-          {
-            // 30 vectors between restarts: each holds a velocity and a
-            // pressure vector, the largest share of the solver's memory;
-            // 50 cost 7 % more memory at the same time on die2d (668k
-            // unknowns: 322 against 355 Krylov iterations over 11 solves).
-            typename dealii::SolverGMRES<dealii::BlockVector<double>>::AdditionalData gmres(32, true);
-            dealii::SolverGMRES<dealii::BlockVector<double>>(control, gmres).solve(op, x, b, preconditioner);
-          }
-        else
-          {
-            typename dealii::SolverFGMRES<dealii::BlockVector<double>>::AdditionalData fgmres(50);
-            dealii::SolverFGMRES<dealii::BlockVector<double>>(control, fgmres).solve(op, x, b, preconditioner);
-          }
-        info.converged = true;
-      }
-    catch (const dealii::SolverControl::NoConvergence &)
-      {}
-    info.iterations         = control.last_step();
+    // GMRES(32) first: each of its vectors holds a velocity and a pressure
+    // vector, the largest share of the solver's memory (50 cost 7 % more
+    // memory at the same time on die2d, 668k unknowns: 322 against 355
+    // Krylov iterations over 11 solves). A solve that is not done after
+    // long_restart iterations goes on from where it stands with
+    // long_restart vectors, as many as fit in half the free memory: short
+    // restarts stagnate where the velocity cycle is weak (die2d with
+    // Norton-Hoff m = 0.05, 32 cells across: 2,053 iterations, 4 direct
+    // fallbacks and 45.4 s over 17 solves with GMRES(32) throughout; 1,483,
+    // none and 34.9 s this way; GMRES(100) throughout, 975 and 26.1 s, but
+    // its vectors would add some 0.7 KB per unknown to every large Newtonian
+    // run, whose solves take fewer than 100 iterations).
+    double last_residual = b.l2_norm();
+    const auto gmres     = [&](const unsigned int restart, const unsigned int limit) {
+      dealii::SolverControl control(limit, target, false, false);
+      bool                  converged = true;
+      try
+        {
+          if (inner_tolerance == 0)
+            {
+              typename dealii::SolverGMRES<dealii::BlockVector<double>>::AdditionalData data(restart, true);
+              dealii::SolverGMRES<dealii::BlockVector<double>>(control, data).solve(op, x, b, preconditioner);
+            }
+          else
+            {
+              typename dealii::SolverFGMRES<dealii::BlockVector<double>>::AdditionalData data(restart);
+              dealii::SolverFGMRES<dealii::BlockVector<double>>(control, data).solve(op, x, b, preconditioner);
+            }
+        }
+      catch (const dealii::SolverControl::NoConvergence &)
+        {
+          converged = false;
+        }
+      info.iterations += control.last_step();
+      last_residual = control.last_value();
+      return converged;
+    };
+    const unsigned int short_restart = inner_tolerance == 0 ? 32 : 50;
+    info.converged = gmres(short_restart, std::min(max_iterations, long_restart));
+    if (!info.converged && info.iterations < max_iterations)
+      info.converged = gmres(affordable_restart(x, short_restart), max_iterations - info.iterations);
+    info.residual_reduction = last_residual / b.l2_norm();
     info.inner_iterations   = velocity_inverse.iterations;
-    info.residual_reduction = control.last_value() / b.l2_norm();
     du = x.block(0);
     op.scale_pressure(dp, x.block(1));
     // deal.II's solvers take their Krylov vectors from a pool that keeps

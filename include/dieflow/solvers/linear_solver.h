@@ -125,6 +125,10 @@ namespace dieflow
     static bool
     direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
 
+    /// The memory free now (the kernel's MemAvailable), in bytes; 0 where there is no such figure.
+    static double
+    available_memory();
+
     /// Solves @p matrix x = @p rhs iteratively, or, if that fails, directly
     /// (for a mesh of dimension @p dim, where that fits in memory).
     void
