@@ -14,7 +14,7 @@ namespace dieflow
 {
   namespace
   {
-    /// The restart length a solve goes on with after as many iterations with a short one.
+    /// The Krylov vectors a solve goes on with (a restart every 98 iterations) after as many iterations with 32.
     constexpr unsigned int long_restart = 100;
 
     /// The scaled mixed operator [A, B^T S; S B, -S C S] (S = diag(s_K)).
@@ -177,8 +177,9 @@ namespace dieflow
       mutable dealii::Vector<double>                   residual;
     };
     /**
-     * The restart length, up to long_restart, whose Krylov vectors (of the
-     * size of @p x) fit in half the memory free now; at least @p shortest.
+     * The number of Krylov vectors (of the size of @p x), up to
+     * long_restart, that fit in half the memory free now; at least
+     * @p shortest.
      */
     unsigned int
     affordable_restart(const dealii::BlockVector<double> &x, const unsigned int shortest)
@@ -257,18 +258,19 @@ namespace dieflow
                                                      max_inner_iterations);
     const BlockTriangularPreconditioner<dim> preconditioner(op, velocity_inverse);
 
-    // GMRES(32) first: each of its vectors holds a velocity and a pressure
-    // vector, the largest share of the solver's memory (50 cost 7 % more
-    // memory at the same time on die2d, 668k unknowns: 322 against 355
-    // Krylov iterations over 11 solves). A solve that is not done after
+    // GMRES with 32 vectors first (deal.II restarts when they are used up,
+    // every 30 iterations): each holds a velocity and a pressure vector,
+    // the largest share of the solver's memory (50 cost 7 % more memory at
+    // the same time on die2d, 668k unknowns: 322 against 355 Krylov
+    // iterations over 11 solves). A solve that is not done after
     // long_restart iterations goes on from where it stands with
-    // long_restart vectors, as many as fit in half the free memory: short
-    // restarts stagnate where the velocity cycle is weak (die2d with
+    // long_restart vectors, or as many as fit in half the free memory:
+    // short restarts stagnate where the velocity cycle is weak (die2d with
     // Norton-Hoff m = 0.05, 32 cells across: 2,053 iterations, 4 direct
-    // fallbacks and 45.4 s over 17 solves with GMRES(32) throughout; 1,483,
-    // none and 34.9 s this way; GMRES(100) throughout, 975 and 26.1 s, but
-    // its vectors would add some 0.7 KB per unknown to every large Newtonian
-    // run, whose solves take fewer than 100 iterations).
+    // fallbacks and 45.4 s over 17 solves with 32 vectors throughout;
+    // 1,483, none and 34.9 s this way; 100 vectors throughout, 975 and
+    // 26.1 s, but they would add some 0.7 KB per unknown to every large
+    // Newtonian run, whose solves take fewer than 100 iterations).
     double last_residual = b.l2_norm();
     const auto gmres     = [&](const unsigned int restart, const unsigned int limit) {
       dealii::SolverControl control(limit, target, false, false);

@@ -33,10 +33,10 @@ namespace dieflow
    * Wathen, Finite Elements and Fast Iterative Solvers, 2nd ed., ch. 4;
    * ASPECT's Stokes solver). Exact to invert: M is block diagonal.
    * Right preconditioning keeps the residual GMRES measures the true one.
-   * GMRES restarts every 32 iterations (its vectors are most of the
-   * solver's memory); a solve not done after 100 goes on with 100 vectors
-   * between restarts where they fit in half the free memory, as short
-   * restarts stagnate where the velocity cycle is weak (strong viscosity
+   * GMRES keeps 32 vectors (a restart every 30 iterations: its vectors
+   * are most of the solver's memory); a solve not done after 100 goes on
+   * with 100 (a restart every 98) where they fit in half the free memory,
+   * as short restarts stagnate where the velocity cycle is weak (strong viscosity
    * contrasts).
    *
    * A^ is either one cycle (a fixed linear map: GMRES), or, with an inner
