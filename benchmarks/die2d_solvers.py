@@ -64,14 +64,15 @@ def run(program, base, across, method, limit):
 
 
 def exponent(rows, from_dofs=40000):
-    """Least-squares slope of log(wall) against log(dofs), over the sizes from @p from_dofs on."""
+    """Least-squares slope of log(wall) against log(dofs) over the sizes
+    from @p from_dofs on, and how many sizes that is."""
     rows = [r for r in rows if r["dofs"] >= from_dofs]
     if len(rows) < 2:
-        return float("nan")
+        return float("nan"), len(rows)
     x = [math.log(r["dofs"]) for r in rows]
     y = [math.log(r["wall"]) for r in rows]
     mx, my = sum(x) / len(x), sum(y) / len(y)
-    return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
+    return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x), len(rows)
 
 
 def ungraded_die2d(root, degree, extra="", cycles=1):
@@ -134,9 +135,8 @@ def main():
                 r["ram"], r["div"]), flush=True)
     print()
     for method, rows in results.items():
-        fitted = [r for r in rows.values() if r["dofs"] >= 40000]
         print("%s: wall time grows as N^%.2f over the %d sizes from 40,000 unknowns" % (
-            method, exponent(list(rows.values())), len(fitted)))
+            (method,) + exponent(list(rows.values()))))
     for method in [m for m in results if m != "direct"]:
         both = [a for a in results[method] if a in results.get("direct", {})]
         crossover = [results[method][a]["dofs"] for a in both if results[method][a]["wall"] < results["direct"][a]["wall"]]
