@@ -379,6 +379,7 @@ namespace dieflow
         if (linear_solver.p_multigrid)
           saddle_point_solver->use_p_multigrid(dof_handler);
         saddle_point_solver->constraints     = &update_constraints;
+        saddle_point_solver->flow            = material.is_newtonian() ? nullptr : &assembled_iterate;
         saddle_point_solver->inner_tolerance = linear_solver.inner_tolerance;
         // The previous mesh's cell stress gives the first pressure (cell
         // means). Without one the pressure starts at zero, at the first

@@ -55,7 +55,8 @@ namespace dieflow
                                    const std::vector<double> &                                       modes,
                                    const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data)
   {
-    Assert(modes.size() == n_rigid_body_modes<dim> * matrix.m(), dealii::ExcInternalError());
+    Assert(modes.size() % matrix.m() == 0 && modes.size() >= n_rigid_body_modes<dim> * matrix.m(),
+           dealii::ExcInternalError());
     copy.reinit(matrix);
     Teuchos::ParameterList              parameters;
     std::unique_ptr<Epetra_MultiVector> constant_modes;
@@ -63,7 +64,7 @@ namespace dieflow
     // One process: ML's local numbering is the global one. ML reads the
     // vectors while initialize() builds the hierarchy.
     parameters.set("null space: type", "pre-computed");
-    parameters.set("null space: dimension", static_cast<int>(n_rigid_body_modes<dim>));
+    parameters.set("null space: dimension", static_cast<int>(modes.size() / matrix.m()));
     parameters.set("null space: vectors", const_cast<double *>(modes.data()));
     amg.initialize(copy, parameters);
   }

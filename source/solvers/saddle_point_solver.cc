@@ -250,7 +250,7 @@ namespace dieflow
     // but cost 1.2 to 1.5 times the time.
     PMultigrid<dim> *const cycle = constraints != nullptr ? p_multigrid.get() : nullptr;
     if (cycle != nullptr)
-      cycle->initialize(A, *constraints);
+      cycle->initialize(A, *constraints, flow);
     else
       initialize_with_rigid_body_modes<dim>(velocity_preconditioner, velocity_matrix, A, modes,
                                             velocity_amg_data({}, true));

@@ -30,7 +30,8 @@ namespace dieflow
    * dofs zero (the condensed system's unknowns are the unconstrained
    * dofs), A_1 = P^T A P the Galerkin operator (which carries the contact,
    * slip and friction rows of A as they are), and A_1^ one ML
-   * smoothed-aggregation V-cycle on it with the rigid-body modes. Algebraic
+   * smoothed-aggregation V-cycle on it with the rigid-body modes (and the
+   * flow, see initialize()) as near-null space. Algebraic
    * multigrid copes with the short stencil of a Q1 operator better than
    * with Q2's (Heys, Manteuffel, McCormick, Olson, J. Comput. Phys. 204
    * (2005) 520; the "hybrid multigrid" of Kronbichler and Wall, SIAM J.
@@ -44,9 +45,24 @@ namespace dieflow
     void
     reinit(const dealii::DoFHandler<dim> &dof_handler);
 
-    /// The hierarchy for @p A, whose constrained rows are those of @p constraints.
+    /**
+     * The hierarchy for @p A, whose constrained rows are those of
+     * @p constraints. @p flow (optional): the velocity A is the Newton
+     * tangent at, added to the near-null space. For a law whose stress is
+     * homogeneous of degree m in the strain rate (Norton-Hoff, sigma = 2 K
+     * (sqrt(3) epsdot_eq)^(m-1) epsdot, eq. (3) of the paper), Euler's
+     * theorem gives A v = m A_S v at that velocity v (A_S the secant,
+     * Picard, matrix): the tangent is m times softer along the flow than
+     * across it, and smoothed aggregation coarsens well only what its
+     * near-null space spans (die2d, m = 0.05, 16 / 32 / 64 cells across:
+     * 24 / 27 / 30 Krylov iterations per solve with the flow, 43 / 32 / 40
+     * without; doc/benchmarks.md). Not for a Newtonian law (m = 1: no
+     * softer direction, and 8 % more memory at 668k unknowns).
+     */
     void
-    initialize(const dealii::SparseMatrix<double> &A, const dealii::AffineConstraints<double> &constraints);
+    initialize(const dealii::SparseMatrix<double> &      A,
+               const dealii::AffineConstraints<double> &constraints,
+               const dealii::Vector<double> *           flow = nullptr);
 
     void
     vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
@@ -55,6 +71,8 @@ namespace dieflow
     dealii::FESystem<dim>                     coarse_fe{dealii::FE_Q<dim>(1), dim};
     dealii::DoFHandler<dim>                   coarse_dofs;
     std::vector<double>                       coarse_modes;
+    /// The Q2 dof at the vertex of each Q1 dof (P's entry 1 in its column).
+    std::vector<dealii::types::global_dof_index> vertex_dof;
     dealii::SparsityPattern                   embedding_pattern;
     dealii::SparseMatrix<double>              embedding;
     /// Kept per mesh; the matrices A P and A_1 hold values only during initialize().

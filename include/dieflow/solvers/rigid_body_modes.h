@@ -33,7 +33,8 @@ namespace dieflow
 
   /**
    * One ML smoothed-aggregation hierarchy for a velocity block @p matrix
-   * with the @p modes of rigid_body_modes() as near-null space and the
+   * with the @p modes of rigid_body_modes() (followed by any further
+   * near-null vectors, each of the matrix's size) as near-null space and the
    * settings of @p data (velocity_amg_data()); @p copy receives the
    * Trilinos copy of @p matrix the preconditioner works on (keep it alive
    * as long as @p amg).

@@ -86,6 +86,10 @@ namespace dieflow
     /// The constraints whose rows A has condensed (for p-multigrid).
     const dealii::AffineConstraints<double> *constraints = nullptr;
 
+    /// The velocity A is the tangent at, for p-multigrid's near-null space
+    /// (PMultigrid::initialize()); none for a Newtonian material.
+    const dealii::Vector<double> *flow = nullptr;
+
     /**
      * Solves from du = dp = 0 until the scaled residual is below
      * @p tolerance times the scaled right-hand side; reports failure (no
