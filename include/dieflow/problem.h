@@ -138,6 +138,18 @@ namespace dieflow
      */
     void
     solve_mixed(Vector<double> &update, const double tolerance);
+    /**
+     * The mixed solve's tolerance: Newton's forcing term (LinearSolver::
+     * forcing_tolerance()), tightened once Newton's residual is down to its
+     * round-off floor (residual_floor()) while pressure_residual_ratio()
+     * is still above its bound. A solve leaves q
+     * = -lambda M^-1 r_p, r_p its pressure rows' residual, so the ratio
+     * after a solve scales with the tolerance it was given: the next one
+     * gets last tolerance x 0.1 x bound / ratio, but no less than 1e-2 of
+     * the forcing term (q also carries what earlier steps left) or 1e-10.
+     */
+    double
+    mixed_solve_tolerance(const double relative_residual);
     /// q = p - lambda M^-1 B v for the cell coefficients @p p (lambda: the assembler's).
     Vector<double>
     multiplier_for(const Vector<double> &p, const Vector<double> &v) const;
@@ -373,6 +385,8 @@ namespace dieflow
     bool                         augmented = false;
     /// The mixed form is in use (iterative linear solver, degree 2).
     bool                         mixed_form = false;
+    /// The last mixed solve's tolerance on this mesh (0: none yet).
+    double                       last_mixed_tolerance = 0;
     MixedPenalty<dim>            mixed;
     std::unique_ptr<SaddlePointSolver<dim>> saddle_point_solver;
     /// The mixed form's q of the accepted iterate, and the last step's dq.
