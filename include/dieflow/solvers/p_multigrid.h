@@ -52,7 +52,9 @@ namespace dieflow
      * homogeneous of degree m in the strain rate (Norton-Hoff, sigma = 2 K
      * (sqrt(3) epsdot_eq)^(m-1) epsdot, eq. (3) of the paper), Euler's
      * theorem gives A v = m A_S v at that velocity v (A_S the secant,
-     * Picard, matrix): the tangent is m times softer along the flow than
+     * Picard, matrix; the standard tangent everywhere, the primal-dual one
+     * once its dual strain rate S has settled on D/r, as near the
+     * solution): along the flow the tangent's stiffness is m times that
      * across it, and smoothed aggregation coarsens well only what its
      * near-null space spans (die2d, m = 0.05, 16 / 32 / 64 cells across:
      * 24 / 27 / 30 Krylov iterations per solve with the flow, 43 / 32 / 40
