@@ -60,8 +60,9 @@ namespace dieflow
   struct ContactContribution
   {
     std::array<GlobalDof, dim> dofs;
-    /// Row transformation T = I + b n^T of the node's flow rows: the
-    /// dependence of the friction force on the normal reaction n.R_flow.
+    /// Row transformation T = I + b m^T of the node's flow rows: the
+    /// dependence of the friction force on the normal reaction m.R_flow
+    /// (m = n but for a node with several normals, dual_normal()).
     dealii::FullMatrix<double> row_transform;
     bool                       has_row_transform = false;
     /// Residual and tangent of the contact element (the slave's block).
@@ -364,14 +365,22 @@ namespace dieflow
     /// (v_s, V, .., V): the node's velocity and the die's at its master nodes.
     typename ContactElement<dim>::Vector
     element_velocity(const Node &node, const Direction &direction, const dealii::Vector<double> &v) const;
-    /// True for a node that one wall holds and that sticks to it exactly.
+    /// True for a direction that sticks exactly to its wall, on a node that
+    /// its walls do not hold at rest already (one wall, or two in 3D).
     bool
     sticks_exactly(const Node &node, const Direction &direction) const;
+    /// m with F_n = m.R_flow for @p direction at @p node: its row of the
+    /// least-squares split of a reaction on the node's normals.
+    Tensor<1, dim>
+    dual_normal(const Node &node, const Direction &direction) const;
     /// The node's reaction on its active normals (into @p forces) and, where
-    /// it sticks exactly, on the tangents (into @p stick_forces).
+    /// it sticks exactly, on the tangents (into @p stick_forces): what the
+    /// slipping walls' friction at @p v leaves, shared by the sticking walls
+    /// in proportion to their bounds.
     void
     decompose_reaction(const Node &                  node,
                        const dealii::Vector<double> &flow_residual,
+                       const dealii::Vector<double> &v,
                        std::vector<double> &         forces,
                        std::vector<Slip> &           stick_forces) const;
 
