@@ -737,11 +737,15 @@ namespace dieflow
     // about as much of q as it removed (die2d, Norton-Hoff m = 0.05, 128
     // cells across: 9 more Newton iterations of some 70 Krylov iterations
     // each, the update 1e-10 of v).
-    double       tolerance = linear_solver.forcing_tolerance(relative_residual, penalty_factor());
-    const double ratio     = pressure_residual_ratio();
-    if (last_mixed_tolerance > 0 && relative_residual <= residual_floor() && ratio > mixed_pressure_tolerance)
-      tolerance = std::max({1e-10, 1e-2 * tolerance,
-                            std::min(tolerance, 0.1 * mixed_pressure_tolerance / ratio * last_mixed_tolerance)});
+    // The ratio costs a pass of gradients over the mesh: only at the floor.
+    double tolerance = linear_solver.forcing_tolerance(relative_residual, penalty_factor());
+    if (last_mixed_tolerance > 0 && relative_residual <= residual_floor())
+      {
+        const double ratio = pressure_residual_ratio();
+        if (ratio > mixed_pressure_tolerance)
+          tolerance = std::max({1e-10, 1e-2 * tolerance,
+                                std::min(tolerance, 0.1 * mixed_pressure_tolerance / ratio * last_mixed_tolerance)});
+      }
     last_mixed_tolerance = tolerance;
     return tolerance;
   }
