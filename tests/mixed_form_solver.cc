@@ -72,8 +72,14 @@ namespace
     return "subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = " + std::to_string(across) +
            "\n end\nend\nsubsection Discretisation\n set Velocity degree = 2\nend\n";
   }
-  const std::string p1 = "subsection Material\n set Law = Norton-Hoff\n set Consistency K = 0.834\n"
-                         " set Rate sensitivity m = 0.2\n set Minimum strain rate = 1e-4\nend\n";
+  /// The die2d material P (Norton-Hoff, K = 0.834) with rate sensitivity m.
+  std::string
+  norton_hoff(const std::string &m)
+  {
+    return "subsection Material\n set Law = Norton-Hoff\n set Consistency K = 0.834\n set Rate sensitivity m = " + m +
+           "\n set Minimum strain rate = 1e-4\nend\n";
+  }
+  const std::string p1 = norton_hoff("0.2");
   const std::string frictionless =
     "subsection Contact\n set Friction coefficients = 3: 0, 4: 0\nend\n";
 
@@ -183,8 +189,7 @@ main(int argc, char **argv)
 
   // Viscosity contrast: Norton-Hoff m = 0.05 (nearly rigid-plastic),
   // frictionless die2d, 16 cells across, p-multigrid.
-  const std::string contrast = "subsection Material\n set Law = Norton-Hoff\n set Consistency K = 0.834\n"
-                               " set Rate sensitivity m = 0.05\n set Minimum strain rate = 1e-4\nend\n";
+  const std::string contrast = norton_hoff("0.05");
   const RunSummary contrast_direct    = run(die2d(16) + frictionless + contrast, " set Method = direct\n");
   const RunSummary contrast_iterative = run(die2d(16) + frictionless + contrast, " set Method = iterative\n");
   report("m = 0.05: both converge, the iterative method without falling back",

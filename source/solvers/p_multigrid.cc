@@ -35,19 +35,20 @@ namespace dieflow
           ++coarse_cell;
         }
     };
-    vertex_dof.assign(coarse_dofs.n_dofs(), 0);
-    for_each_entry([&](const auto i, const auto j, const double value) {
-      if (std::abs(value - 1.) < 1e-12)
-        vertex_dof[j] = i;
-    });
     dealii::DynamicSparsityPattern pattern(dof_handler.n_dofs(), coarse_dofs.n_dofs());
     for_each_entry([&](const auto i, const auto j, const double) { pattern.add(i, j); });
     embedding.clear();
     embedding_pattern.copy_from(pattern);
     embedding.reinit(embedding_pattern);
     // The embedding is continuous: every cell sharing a fine dof gives it
-    // the same row, so setting (not adding) is consistent.
-    for_each_entry([&](const auto i, const auto j, const double value) { embedding.set(i, j, value); });
+    // the same row, so setting (not adding) is consistent. A Q1 vertex is
+    // the Q2 node where its shape function is 1.
+    vertex_dof.assign(coarse_dofs.n_dofs(), 0);
+    for_each_entry([&](const auto i, const auto j, const double value) {
+      embedding.set(i, j, value);
+      if (std::abs(value - 1.) < 1e-12)
+        vertex_dof[j] = i;
+    });
     product.clear();
     coarse_matrix.clear();
     patterns_built = false;
@@ -108,10 +109,17 @@ namespace dieflow
     data.eigenvalue_algorithm = decltype(data)::EigenvalueAlgorithm::power_iteration;
     smoother.initialize(A, data);
 
-    std::vector<double> modes = coarse_modes;
-    if (flow != nullptr && flow->linfty_norm() > 0)
-      for (const auto i : vertex_dof)
-        modes.push_back((*flow)[i]);
+    // The rigid-body modes, and the flow as one more where it is given.
+    std::vector<double> modes_with_flow;
+    const bool          with_flow = flow != nullptr && flow->linfty_norm() > 0;
+    if (with_flow)
+      {
+        modes_with_flow.reserve(coarse_modes.size() + vertex_dof.size());
+        modes_with_flow = coarse_modes;
+        for (const auto i : vertex_dof)
+          modes_with_flow.push_back((*flow)[i]);
+      }
+    const std::vector<double> &modes = with_flow ? modes_with_flow : coarse_modes;
     auto amg_data = velocity_amg_data({}, false);
     // Aggregation across every connection: dropping the weak ones (below
     // 0.02 of the diagonals, as ASPECT does) weakens ML's cycle where the
