@@ -502,22 +502,45 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The normals a node's reaction is split on: its active directions'
+    /// (direction k's index into @p direction_of) and then its fixed walls'
+    /// (-1 there).
+    template <int dim, typename NodeType>
+    std::vector<Tensor<1, dim>>
+    held_normals(const NodeType &node, std::vector<int> &direction_of)
+    {
+      std::vector<Tensor<1, dim>> normals;
+      direction_of.clear();
+      for (unsigned int k = 0; k < node.directions.size(); ++k)
+        if (node.directions[k].active)
+          {
+            normals.push_back(node.directions[k].wall.normal);
+            direction_of.push_back(k);
+          }
+      for (const auto &n : node.fixed_normals)
+        {
+          normals.push_back(n);
+          direction_of.push_back(-1);
+        }
+      return normals;
+    }
+  } // namespace
+
+
+
   template <int dim>
   Tensor<1, dim>
   ContactSet<dim>::dual_normal(const Node &node, const Direction &direction) const
   {
-    // The normals decompose_reaction() splits the reaction on, in its order.
-    std::vector<Tensor<1, dim>> normals;
-    unsigned int                index = 0;
-    for (const auto &dir : node.directions)
-      if (dir.active)
-        {
-          if (&dir == &direction)
-            index = normals.size();
-          normals.push_back(dir.wall.normal);
-        }
-    for (const auto &n : node.fixed_normals)
-      normals.push_back(n);
+    std::vector<int>                  direction_of;
+    const std::vector<Tensor<1, dim>> normals = held_normals<dim>(node, direction_of);
+    if (normals.size() == 1)
+      return direction.wall.normal;
+    const unsigned int index =
+      std::find(direction_of.begin(), direction_of.end(), static_cast<int>(&direction - node.directions.data())) -
+      direction_of.begin();
     // The split is linear in the reaction: its k-th component of e_d is m_d.
     Tensor<1, dim> m;
     for (unsigned int d = 0; d < dim; ++d)
@@ -545,21 +568,10 @@ namespace dieflow
     // friction.)
     forces.assign(node.directions.size(), 0.);
     stick_forces.assign(node.directions.size(), Slip::Zero());
-    std::vector<Tensor<1, dim>> normals;
-    std::vector<int>            direction_of; // k for direction k's normal, -1 for a fixed wall
-    for (unsigned int k = 0; k < node.directions.size(); ++k)
-      if (node.directions[k].active)
-        {
-          normals.push_back(node.directions[k].wall.normal);
-          direction_of.push_back(k);
-        }
-    if (normals.empty())
+    std::vector<int>                  direction_of;
+    const std::vector<Tensor<1, dim>> normals = held_normals<dim>(node, direction_of);
+    if (node.n_active() == 0)
       return;
-    for (const auto &n : node.fixed_normals)
-      {
-        normals.push_back(n);
-        direction_of.push_back(-1);
-      }
     Tensor<1, dim> reaction;
     for (unsigned int d = 0; d < dim; ++d)
       reaction[d] = flow_residual[node.dofs[d]];
