@@ -534,10 +534,10 @@ namespace dieflow
   Tensor<1, dim>
   ContactSet<dim>::dual_normal(const Node &node, const Direction &direction) const
   {
+    if (node.n_held() == 1)
+      return direction.wall.normal;
     std::vector<int>                  direction_of;
     const std::vector<Tensor<1, dim>> normals = held_normals<dim>(node, direction_of);
-    if (normals.size() == 1)
-      return direction.wall.normal;
     const unsigned int index =
       std::find(direction_of.begin(), direction_of.end(), static_cast<int>(&direction - node.directions.data())) -
       direction_of.begin();
@@ -568,10 +568,10 @@ namespace dieflow
     // friction.)
     forces.assign(node.directions.size(), 0.);
     stick_forces.assign(node.directions.size(), Slip::Zero());
-    std::vector<int>                  direction_of;
-    const std::vector<Tensor<1, dim>> normals = held_normals<dim>(node, direction_of);
     if (node.n_active() == 0)
       return;
+    std::vector<int>                  direction_of;
+    const std::vector<Tensor<1, dim>> normals = held_normals<dim>(node, direction_of);
     Tensor<1, dim> reaction;
     for (unsigned int d = 0; d < dim; ++d)
       reaction[d] = flow_residual[node.dofs[d]];
