@@ -14,6 +14,7 @@
 #include <dieflow/solvers/nonlinear_solver.h>
 
 #include "report.h"
+#include "scripted_system.h"
 
 #include <algorithm>
 #include <cmath>
@@ -51,12 +52,11 @@ namespace
   }
 
   /// A one-unknown system scripted to fail in one way.
-  class ScriptedSystem : public NonlinearSystem
+  class ScriptedSystem : public OneUnknownSystem
   {
   public:
     explicit ScriptedSystem(const Failure failure)
       : failure(failure)
-      , r(1)
     {}
 
     StateChanges
@@ -76,24 +76,11 @@ namespace
       minus_residual = r;
       return 1;
     }
-    const dealii::Vector<double> &
-    minus_residual() const override
-    {
-      return r;
-    }
-    bool
-    is_linear() const override
-    {
-      return false;
-    }
     double
     velocity_scale() const override
     {
       return 1;
     }
-    void
-    accept_step(const dealii::Vector<double> &, const dealii::Vector<double> &, const double, const Linearization) override
-    {}
     void
     solve(dealii::Vector<double> &update, const double) override
     {
@@ -117,8 +104,7 @@ namespace
     }
 
   private:
-    const Failure          failure;
-    dealii::Vector<double> r;
+    const Failure failure;
   };
 
   std::string

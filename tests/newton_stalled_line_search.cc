@@ -11,6 +11,7 @@
 #include <dieflow/solvers/nonlinear_solver.h>
 
 #include "report.h"
+#include "scripted_system.h"
 
 #include <cmath>
 #include <sstream>
@@ -19,19 +20,13 @@ using namespace dieflow;
 
 namespace
 {
-  class StalledSystem : public NonlinearSystem
+  class StalledSystem : public OneUnknownSystem
   {
   public:
     explicit StalledSystem(const double correction)
       : correction(correction)
-      , r(1)
     {}
 
-    StateChanges
-    update_state(dealii::Vector<double> &) override
-    {
-      return {};
-    }
     double
     assemble_system(const dealii::Vector<double> &v, const Linearization) override
     {
@@ -48,19 +43,6 @@ namespace
       minus_residual[0] = std::abs(trial[0] - anchor) <= 1e-4 ? 0. : -1.;
       return 1e-3;
     }
-    const dealii::Vector<double> &
-    minus_residual() const override
-    {
-      return r;
-    }
-    bool
-    is_linear() const override
-    {
-      return false;
-    }
-    void
-    accept_step(const dealii::Vector<double> &, const dealii::Vector<double> &, const double, const Linearization) override
-    {}
     void
     solve(dealii::Vector<double> &update, const double) override
     {
@@ -69,9 +51,8 @@ namespace
     }
 
   private:
-    const double           correction;
-    double                 anchor = 0;
-    dealii::Vector<double> r;
+    const double correction;
+    double       anchor = 0;
   };
 
   NonlinearResult
