@@ -10,16 +10,6 @@
 
 namespace dieflow
 {
-  namespace
-  {
-    /// Beyond this the preconditioner has failed (measured: 120 to 850
-    /// iterations where it works, see doc/benchmarks.md); the direct solver
-    /// is then faster than more Krylov steps.
-    constexpr unsigned int max_iterations = 500;
-  } // namespace
-
-
-
   MpiOnFirstUse::MpiOnFirstUse()
   {
     int initialised = 0;
@@ -65,7 +55,8 @@ namespace dieflow
                          const bool                          symmetric,
                          const dealii::Vector<double> &      rhs,
                          dealii::Vector<double> &            solution,
-                         const double                        tolerance)
+                         const double                        tolerance,
+                         const unsigned int                  max_iterations)
   {
     IterativeSolveInfo info;
     solution.reinit(rhs.size());

@@ -233,6 +233,17 @@ namespace dieflow
                       "tolerance a solve is given. Degree 2 with a Penalty factor "
                       "above 1e7: multiplied by 1e7 / Penalty factor. Newton's own "
                       "tests decide the answer's accuracy.");
+    prm.declare_entry("Maximum iterations",
+                      "0",
+                      dealii::Patterns::Integer(0),
+                      "Iterative method: the Krylov iterations a linear solve may "
+                      "take. A solve not done by then is solved again by the direct "
+                      "solver, or, for velocity degree 2 where that would not fit in "
+                      "the free memory and the solve cut its residual tenfold, taken "
+                      "as a partial Newton step (summary.json counts both). 0: 300 "
+                      "for velocity degree 2 (the mixed form's GMRES takes 16-45 per "
+                      "solve where its preconditioner works), 500 for degree 1 (the "
+                      "augmented Lagrangian's CG or GMRES).");
     prm.declare_entry("Divergence tolerance",
                       "1e-7",
                       dealii::Patterns::Double(0),
@@ -293,6 +304,8 @@ namespace dieflow
     iterative_tolerance  = prm.get_double("Iterative tolerance");
     divergence_tolerance = get_positive(prm, "Linear solver/", "Divergence tolerance");
     inexact_newton       = prm.get_bool("Inexact Newton");
+    if (const unsigned int limit = prm.get_integer("Maximum iterations"); limit > 0)
+      max_block_iterations = max_augmented_iterations = limit;
     p_multigrid          = prm.get("Velocity multigrid") == "p-multigrid";
     inner_tolerance      = prm.get("Velocity block") == "inner solve" ? prm.get_double("Inner tolerance") : 0.;
     require(prm.get_double("Inner tolerance") > 0 && prm.get_double("Inner tolerance") < 1,
@@ -438,7 +451,8 @@ namespace dieflow
                                   dealii::Vector<double> &            solution)
   {
     Assert(iterative_solver, dealii::ExcMessage("set_constant_modes() comes first"));
-    const IterativeSolveInfo info = iterative_solver->solve(matrix, symmetric, rhs, solution, iterative_tolerance);
+    const IterativeSolveInfo info = iterative_solver->solve(matrix, symmetric, rhs, solution, iterative_tolerance,
+                                                                    max_augmented_iterations);
     ++counts.iterative_solves;
     counts.krylov_iterations += info.iterations;
     if (info.converged)

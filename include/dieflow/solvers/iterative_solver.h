@@ -52,15 +52,16 @@ namespace dieflow
 
     /**
      * Solves @p matrix x = @p rhs (from x = 0) until the residual is below
-     * @p tolerance times |rhs|; reports failure (no exception) after 1000
-     * iterations.
+     * @p tolerance times |rhs|; reports failure (no exception) after
+     * @p max_iterations iterations.
      */
     IterativeSolveInfo
     solve(const dealii::SparseMatrix<double> &matrix,
           const bool                          symmetric,
           const dealii::Vector<double> &      rhs,
           dealii::Vector<double> &            solution,
-          const double                        tolerance);
+          const double                        tolerance,
+          const unsigned int                  max_iterations);
 
   private:
     /// First member: the preconditioner needs MPI.

@@ -92,8 +92,17 @@ namespace dieflow
     static std::size_t
     auto_threshold(const unsigned int dim, const unsigned int degree);
 
-    /// The mixed form's GMRES gives up (and falls back to the direct solver) after this many iterations.
+    /**
+     * 'Maximum iterations': the Krylov iterations after which a solve of
+     * the mixed form (degree 2) is given up, as a partial step or for the
+     * direct fallback; beyond 300 its preconditioner has failed (16-45 per
+     * solve where it works, doc/benchmarks.md).
+     */
     unsigned int max_block_iterations = 300;
+    /// The same for the augmented Lagrangian's CG / GMRES (degree 1): 120
+    /// to 850 iterations over a run where AMG works; beyond 500 the direct
+    /// solver is faster than more Krylov steps.
+    unsigned int max_augmented_iterations = 500;
 
     /// The velocity components' constant modes, for the AMG preconditioner.
     void
