@@ -1410,8 +1410,12 @@ namespace dieflow
       return;
     // The inequalities the converged state must keep (contact_checks,
     // relative): the active set's dead band of 1e-6, friction within its
-    // cone and opposing the slip to round-off, sticking nodes at rest to
-    // 1e-8. A direction held in contact to end a cycle of the states sits
+    // cone and opposing the slip to round-off (in 3D within its cone to
+    // 1e-8: the semismooth Newton method's friction force reaches the cone
+    // as Newton converges, not by construction; die2d's section extruded,
+    // tests/rectangular_bar_quarter, ends 2e-11 beyond it at a residual of
+    // 7e-9), sticking nodes at rest to 1e-8. A direction held in contact
+    // to end a cycle of the states sits
     // where contact gives way to separation, whose exact pressure is zero:
     // its pull is that transition falling between nodes, allowed to 1e-4.
     // Penalty enforcement keeps the first and the last only approximately.
@@ -1420,7 +1424,7 @@ namespace dieflow
     const std::vector<std::tuple<std::string, double, double, bool>> checks = {
       {"penetration", cycle.contact_penetration, 1e-6, exact_normal},
       {"pull of the die", cycle.contact_tension, cycle.held_in_contact > 0 ? 1e-4 : 1e-6, exact_normal},
-      {"friction beyond its bound", cycle.friction_excess, 1e-12, true},
+      {"friction beyond its bound", cycle.friction_excess, dim == 3 ? 1e-8 : 1e-12, true},
       {"friction driving the slip", cycle.friction_power, 1e-12, true},
       {"sliding of sticking nodes", cycle.stick_slip_rate, 1e-8, exact_stick}};
     std::ostringstream broken;

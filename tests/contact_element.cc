@@ -10,7 +10,10 @@
 // element is smooth (the slip rates here are far from zero): tolerance
 // 1e-7. Also: c_n, C_t are the variations of the gap rates, the master
 // weights interpolate the slave's projection, slip sits on the Coulomb cone
-// opposite to the slip, stick below it.
+// opposite to the slip, stick below it. In 3D the semismooth slip (the
+// friction force carried as a condensed unknown): its derivatives, its
+// fixed point (Coulomb's slip), and its finite stiffness across the slip of
+// a node just released from stick.
 #include <dieflow/contact/contact_element.h>
 
 #include "report.h"
@@ -196,6 +199,56 @@ namespace
                          (out.second + unit).norm() < 1e-14;
           }
         report(prefix + "the Coulomb cone is isotropic in the tangent plane", isotropic);
+
+        // Slip by the semismooth Newton method, the friction force lambda
+        // carried (linearised at g_k, b_k; c = 2): the friction residual's
+        // tangent and dR/dF_n are its derivatives (the model is linear in g_t
+        // and F_n: finite differences to round-off).
+        const double b = 0.3 * 4.0, c_t = 2;
+        const auto   carried = [&](FrictionLaw law, const Slip &lambda, const Slip &g_k) {
+          law.multiplier.constant = c_t;
+          law.multiplier.bound    = law.bound(normal_force);
+          for (int i = 0; i < 2; ++i)
+            {
+              law.multiplier.force[i] = lambda[i];
+              law.multiplier.rate[i]  = g_k[i];
+            }
+          return law;
+        };
+        for (const auto &[name, base] : {std::make_pair("Coulomb", coulomb), std::make_pair("Tresca", tresca)})
+          {
+            const FrictionLaw law   = carried(base, Slip(1.0, 1.0), Slip(0.2, -0.1));
+            const auto        given = [&](const typename Element::Vector &x) {
+              return e.friction_part(x, normal_force, law, ContactStatus::slip, direction).residual;
+            };
+            const auto                     g = e.friction_part(u, normal_force, law, ContactStatus::slip, direction);
+            const double                   h = 1e-6;
+            const typename Element::Vector d_normal =
+              (e.friction_part(u, normal_force + h, law, ContactStatus::slip, direction).residual -
+               e.friction_part(u, normal_force - h, law, ContactStatus::slip, direction).residual) /
+              (2 * h);
+            report(prefix + name + " slip, semismooth (carried force): tangent and dR/dF_n match finite differences",
+                   tangent_error<dim>(given, g.tangent, u) < 1e-7 &&
+                     (d_normal - g.d_residual_d_normal_force).norm() <= 1e-7 * std::max(d_normal.norm(), 1.));
+          }
+        // At its fixed point (lambda on the cone, the slip against it) the
+        // force is lambda itself: a converged state is Coulomb's slip.
+        const Slip g_k(0.3, -0.4), lambda = -b * g_k / g_k.norm();
+        const auto fixed = Element::friction(carried(coulomb, lambda, g_k), ContactStatus::slip, direction, g_k,
+                                             normal_force);
+        report(prefix + "semismooth slip at its fixed point: F_t = lambda, |F_t| = mu |F_n| against the slip",
+               (fixed.force - lambda).norm() < 1e-14);
+        // A node just released from stick (at rest, its stick force 1 %
+        // beyond the cone): the force is the bound along the stick force,
+        // and the stiffness across it c a/(1-a), a = b/|lambda| (here 100 c),
+        // is finite where g_t/|g_t| has no derivative at all.
+        const Slip unit(0.6, 0.8), across(-0.8, 0.6);
+        const auto released = Element::friction(carried(coulomb, 1.01 * b * unit, Slip::Zero()), ContactStatus::slip,
+                                                direction, Slip::Zero(), normal_force);
+        report(prefix + "semismooth slip just released: F_t = mu |F_n| along the stick force, stiffness 100 c across it",
+               (released.force - b * unit).norm() < 1e-14 &&
+                 std::abs(across.dot(released.d_force_d_rate * across) + 100 * c_t) < 1e-9 &&
+                 (released.d_force_d_rate * unit).norm() < 1e-14);
       }
   }
 } // namespace

@@ -355,6 +355,21 @@ namespace dieflow
     law.tangential_penalty      = penalty_of(parameters.tangential_penalty_factor, direction.wall);
     law.regularisation_velocity = direction.regularised ? cycling_velocity : parameters.regularisation_velocity;
     law.slip_floor              = 1e-9 * largest_speed;
+    // 3D slip: the semismooth Newton method on the carried friction force
+    // (ContactElement::friction()), from the first state update that gives
+    // the node one (its stick force when it leaves the cone).
+    const double c = contact_constant(direction);
+    if (dim == 3 && direction.status == ContactStatus::slip && !direction.regularised &&
+        direction.multiplier.norm() > 0 && (direction.multiplier - c * direction.multiplier_rate).norm() > 0)
+      {
+        law.multiplier.constant = c;
+        law.multiplier.bound    = direction.multiplier_bound;
+        for (int i = 0; i < dim - 1; ++i)
+          {
+            law.multiplier.force[i] = direction.multiplier[i];
+            law.multiplier.rate[i]  = direction.multiplier_rate[i];
+          }
+      }
     return law;
   }
 
@@ -469,6 +484,9 @@ namespace dieflow
                                            approach ? ContactStatus::separated : ContactStatus::slip,
                                            Slip::Unit(0),
                                            0.,
+                                           Slip::Zero(),
+                                           0.,
+                                           Slip::Zero(),
                                            Slip::Zero(),
                                            0.,
                                            0,
@@ -746,6 +764,9 @@ namespace dieflow
           {
             Direction &dir   = node.directions[k];
             auto       state = std::make_pair(ContactStatus::separated, dir.slip_direction);
+            // The friction force of this update, and where it is taken.
+            Slip       multiplier = Slip::Zero(), multiplier_rate = Slip::Zero();
+            double     multiplier_bound = 0;
             if (dir.active && sliding && held_at_rest && dir.status == ContactStatus::slip && !dir.regularised &&
                 !law_of(dir).frictionless())
               {
@@ -766,6 +787,9 @@ namespace dieflow
                     dir.stick_force :
                     ContactElement<dim>::friction(law, dir.status, dir.slip_direction, slip_rate, dir.normal_force).force;
                 state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
+                multiplier       = current;
+                multiplier_rate  = slip_rate;
+                multiplier_bound = law.bound(dir.normal_force);
                 // A tie in 3D: once Newton no longer moves the solution, a
                 // node exactly on the cone with no slip (|F_t| = mu |F_n|
                 // to 1e-19 of the largest force; the rectangular bar's
@@ -817,6 +841,10 @@ namespace dieflow
               }
             dir.status = state.first;
             dir.slip_direction = state.second;
+            // A node that goes on slipping, or starts to, carries its friction force.
+            dir.multiplier       = dir.status == ContactStatus::slip ? multiplier : Slip::Zero();
+            dir.multiplier_rate  = multiplier_rate;
+            dir.multiplier_bound = multiplier_bound;
           }
       }
 

@@ -119,6 +119,35 @@ namespace dieflow
 
   template <int dim>
   typename ContactElement<dim>::Friction
+  ContactElement<dim>::semismooth_slip(const FrictionLaw &law, const Slip &slip_rate, const double normal_force)
+  {
+    Slip lambda, g_k;
+    for (int i = 0; i < n_tangents; ++i)
+      {
+        lambda[i] = law.multiplier.force[i];
+        g_k[i]    = law.multiplier.rate[i];
+      }
+    const double c = law.multiplier.constant;
+    const Slip   q = lambda - c * g_k; // never zero (ContactSet::law_of())
+    Friction     f;
+    const Slip       q_hat = q / q.norm();
+    const double     a     = std::min(law.multiplier.bound / q.norm(), 1. - 1e-3);
+    const SlipMatrix P     = SlipMatrix::Identity() - q_hat * q_hat.transpose();
+    f.d_force_d_rate       = -c * a / (1 - a) * P;
+    f.force = law.multiplier.bound * q_hat - a / (1 - a) * (P * lambda) + f.d_force_d_rate * (slip_rate - g_k);
+    if (law.kind == FrictionLaw::Kind::coulomb)
+      {
+        // b = mu |F_n|: no friction where the die pulls (F_n > 0).
+        f.force += q_hat * (law.bound(normal_force) - law.multiplier.bound);
+        f.d_force_d_normal_force = -law.mu * q_hat;
+      }
+    return f;
+  }
+
+
+
+  template <int dim>
+  typename ContactElement<dim>::Friction
   ContactElement<dim>::friction(const FrictionLaw & law,
                                 const ContactStatus status,
                                 const Slip &        direction,
@@ -150,8 +179,11 @@ namespace dieflow
         f.d_force_d_rate = -law.tangential_penalty * identity;
         return f;
       }
-    // Slip: the direction follows g_t in 3D (with its derivative); in 2D it
-    // is the state's sign, constant between state updates.
+    // Slip in 3D with a carried friction force: the semismooth method.
+    if (dim == 3 && law.multiplier.constant > 0)
+      return law.kind == FrictionLaw::Kind::coulomb && normal_force >= 0 ? f : semismooth_slip(law, slip_rate, normal_force);
+    // Otherwise the direction follows g_t in 3D (with its derivative); in
+    // 2D it is the state's sign, constant between state updates.
     const bool live = dim == 3 && rate > law.slip_floor && rate > 0;
     const Slip s    = live ? Slip(slip_rate / rate) : direction;
     const SlipMatrix d_direction = live ? SlipMatrix((identity - s * s.transpose()) / rate) : SlipMatrix::Zero();

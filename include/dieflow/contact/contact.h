@@ -318,6 +318,13 @@ namespace dieflow
       Slip                stick_force;
       /// n.R_flow at a separated direction: zero at equilibrium.
       double              free_reaction;
+      /// 3D slip: the friction force lambda carried by the semismooth Newton
+      /// method (ContactElement::friction()), and the slip rate and bound it
+      /// is linearised at; zero: none yet (until the node's first state
+      /// update on this mesh: its slip direction is then g / |g|).
+      Slip                multiplier;
+      Slip                multiplier_rate;
+      double              multiplier_bound;
       /// How often the slip direction reversed in this cycle.
       unsigned int        reversals;
       /// Cycling: the direction stays in contact from now on...

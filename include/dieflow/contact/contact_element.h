@@ -46,6 +46,18 @@ namespace dieflow
     /// 3D: below this slip rate (velocity units) the slip direction is the
     /// state's, not g_t / |g_t|, whose derivative grows as 1 / |g_t|.
     double slip_floor = 0;
+    /// 3D slip by the semismooth Newton method (ContactElement::friction()):
+    /// the friction force lambda carried from the last state update, the
+    /// slip rate g_k and the bound b_k it was linearised at (tangent basis),
+    /// and the constant c of the trial lambda - c g. constant = 0: none (the
+    /// slip direction is g / |g|).
+    struct SlipMultiplier
+    {
+      double force[2] = {0, 0};
+      double rate[2]  = {0, 0};
+      double bound    = 0;
+      double constant = 0;
+    } multiplier;
 
     bool
     frictionless() const
@@ -139,6 +151,22 @@ namespace dieflow
      * F_t in the given state. @p direction: the state's slip direction, the
      * direction of slip in 2D; in 3D only where |g_t| is below the law's
      * slip floor (a node at rest has no direction of its own).
+     *
+     * 3D slip with a carried multiplier (law.multiplier): the semismooth
+     * Newton method of Hueber, Stadler and Wohlmuth (SIAM J. Sci. Comput. 30
+     * (2008) 572) on (v, lambda), the friction force lambda an unknown of
+     * each node, eliminated there. Slip means C(lambda, g) = lambda - b q/|q|
+     * = 0 with q = lambda - c g outside the cone (|q| > b = mu |F_n|, the
+     * paper's slip condition (6)). Linearised at (lambda, g_k, b_k), with
+     * a = b_k/|q|, q^ = q/|q|, P = I - q^ q^T:
+     *   F_t = b_k q^ - a/(1-a) P lambda - c a/(1-a) P (g - g_k) + q^ (b - b_k),
+     * the force lambda + d lambda of the Newton step, which the next state
+     * update carries as lambda. At its fixed point C = 0: |lambda| = b and g
+     * is opposite to lambda (slip against the friction force). The stiffness
+     * across the slip, c a/(1-a), stays bounded while the node slips (a < 1;
+     * capped at a = 0.999), where the derivative of g/|g|, b/|g|, grows
+     * without bound as the slip rate vanishes: nodes slipping slowly then
+     * traded stick and slip without end (doc/three-dimensional.md).
      */
     static Friction
     friction(const FrictionLaw & law,
@@ -146,6 +174,10 @@ namespace dieflow
              const Slip &        direction,
              const Slip &        slip_rate,
              const double        normal_force);
+
+    /// friction() of a slipping 3D node with a carried multiplier.
+    static Friction
+    semismooth_slip(const FrictionLaw &law, const Slip &slip_rate, const double normal_force);
 
     struct Result
     {
