@@ -304,8 +304,9 @@ namespace dieflow
     iterative_tolerance  = prm.get_double("Iterative tolerance");
     divergence_tolerance = get_positive(prm, "Linear solver/", "Divergence tolerance");
     inexact_newton       = prm.get_bool("Inexact Newton");
-    if (const unsigned int limit = prm.get_integer("Maximum iterations"); limit > 0)
-      max_block_iterations = max_augmented_iterations = limit;
+    const unsigned int limit = prm.get_integer("Maximum iterations");
+    max_block_iterations     = limit > 0 ? limit : 300;
+    max_augmented_iterations = limit > 0 ? limit : 500;
     p_multigrid          = prm.get("Velocity multigrid") == "p-multigrid";
     inner_tolerance      = prm.get("Velocity block") == "inner solve" ? prm.get_double("Inner tolerance") : 0.;
     require(prm.get_double("Inner tolerance") > 0 && prm.get_double("Inner tolerance") < 1,
@@ -451,8 +452,8 @@ namespace dieflow
                                   dealii::Vector<double> &            solution)
   {
     Assert(iterative_solver, dealii::ExcMessage("set_constant_modes() comes first"));
-    const IterativeSolveInfo info = iterative_solver->solve(matrix, symmetric, rhs, solution, iterative_tolerance,
-                                                                    max_augmented_iterations);
+    const IterativeSolveInfo info =
+      iterative_solver->solve(matrix, symmetric, rhs, solution, iterative_tolerance, max_augmented_iterations);
     ++counts.iterative_solves;
     counts.krylov_iterations += info.iterations;
     if (info.converged)
