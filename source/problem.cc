@@ -1415,9 +1415,9 @@ namespace dieflow
     // as Newton converges, not by construction; die2d's section extruded,
     // tests/rectangular_bar_quarter, ends 2e-11 beyond it at a residual of
     // 7e-9), sticking nodes at rest to 1e-8. A direction held in contact
-    // to end a cycle of the states sits
-    // where contact gives way to separation, whose exact pressure is zero:
-    // its pull is that transition falling between nodes, allowed to 1e-4.
+    // to end a cycle of the states sits where contact gives way to
+    // separation, whose exact pressure is zero: its pull is that transition
+    // falling between nodes, allowed to 1e-4.
     // Penalty enforcement keeps the first and the last only approximately.
     const bool exact_normal = contact_parameters.normal_enforcement == "active set";
     const bool exact_stick  = exact_normal && contact_parameters.stick_enforcement == "exact";

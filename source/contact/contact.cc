@@ -358,9 +358,11 @@ namespace dieflow
     // 3D slip: the semismooth Newton method on the carried friction force
     // (ContactElement::friction()), from the first state update that gives
     // the node one (its stick force when it leaves the cone).
+    if (dim != 3 || direction.status != ContactStatus::slip || direction.regularised ||
+        direction.multiplier.norm() == 0)
+      return law;
     const double c = contact_constant(direction);
-    if (dim == 3 && direction.status == ContactStatus::slip && !direction.regularised &&
-        direction.multiplier.norm() > 0 && (direction.multiplier - c * direction.multiplier_rate).norm() > 0)
+    if ((direction.multiplier - c * direction.multiplier_rate).norm() > 0)
       {
         law.multiplier.constant = c;
         law.multiplier.bound    = direction.multiplier_bound;
