@@ -240,10 +240,12 @@ namespace dieflow
                       "take. A solve not done by then is solved again by the direct "
                       "solver, or, for velocity degree 2 where that would not fit in "
                       "the free memory and the solve cut its residual tenfold, taken "
-                      "as a partial Newton step (summary.json counts both). 0: 300 "
-                      "for velocity degree 2 (the mixed form's GMRES takes 16-45 per "
-                      "solve where its preconditioner works), 500 for degree 1 (the "
-                      "augmented Lagrangian's CG or GMRES).");
+                      "as a partial Newton step (summary.json counts both). 0: " +
+                        std::to_string(default_block_iterations) +
+                        " for velocity degree 2 (the mixed form's GMRES takes 16-45 per "
+                        "solve where its preconditioner works), " +
+                        std::to_string(default_augmented_iterations) +
+                        " for degree 1 (the augmented Lagrangian's CG or GMRES).");
     prm.declare_entry("Divergence tolerance",
                       "1e-7",
                       dealii::Patterns::Double(0),
@@ -305,8 +307,8 @@ namespace dieflow
     divergence_tolerance = get_positive(prm, "Linear solver/", "Divergence tolerance");
     inexact_newton       = prm.get_bool("Inexact Newton");
     const unsigned int limit = prm.get_integer("Maximum iterations");
-    max_block_iterations     = limit > 0 ? limit : 300;
-    max_augmented_iterations = limit > 0 ? limit : 500;
+    max_block_iterations     = limit > 0 ? limit : default_block_iterations;
+    max_augmented_iterations = limit > 0 ? limit : default_augmented_iterations;
     p_multigrid          = prm.get("Velocity multigrid") == "p-multigrid";
     inner_tolerance      = prm.get("Velocity block") == "inner solve" ? prm.get_double("Inner tolerance") : 0.;
     require(prm.get_double("Inner tolerance") > 0 && prm.get_double("Inner tolerance") < 1,
@@ -500,10 +502,10 @@ namespace dieflow
   void
   LinearSolver::require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs)
   {
-    const double available = available_memory();
-    const double needed    = direct_memory_estimate(dim, n_dofs);
-    if (available == 0 || needed <= available)
-      return; // Fits, or no figure to compare with.
+    if (direct_fallback_fits(dim, n_dofs))
+      return;
+    const double       available = available_memory();
+    const double       needed    = direct_memory_estimate(dim, n_dofs);
     std::ostringstream message;
     message << std::fixed << std::setprecision(1) << "the iterative linear solver did not converge, and its direct "
             << "fallback for " << n_dofs << " unknowns would need about " << needed / 1e9 << " GB, more than the "

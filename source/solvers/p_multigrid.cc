@@ -115,7 +115,7 @@ namespace dieflow
     if (with_flow)
       {
         modes_with_flow.reserve(coarse_modes.size() + vertex_dof.size());
-        modes_with_flow = coarse_modes;
+        modes_with_flow.assign(coarse_modes.begin(), coarse_modes.end());
         for (const auto i : vertex_dof)
           modes_with_flow.push_back((*flow)[i]);
       }

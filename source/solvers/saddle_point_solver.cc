@@ -177,18 +177,21 @@ namespace dieflow
       mutable dealii::Vector<double>                   residual;
     };
     /**
-     * The number of Krylov vectors (of the size of @p x), up to
-     * long_restart, that fit in half the memory free now; at least
-     * @p shortest.
+     * The restart length, up to long_restart, whose Krylov vectors (of the
+     * size of @p x, @p vectors_per_iteration of them per iteration: one for
+     * GMRES, two for FGMRES, which also keeps each preconditioned vector)
+     * fit in half the memory free now; at least @p shortest.
      */
     unsigned int
-    affordable_restart(const dealii::BlockVector<double> &x, const unsigned int shortest)
+    affordable_restart(const dealii::BlockVector<double> &x,
+                       const unsigned int                 shortest,
+                       const unsigned int                 vectors_per_iteration)
     {
       const double available = LinearSolver::available_memory();
       if (available == 0)
         return long_restart;
-      const double per_vector = sizeof(double) * static_cast<double>(x.size());
-      const double fitting    = 0.5 * available / per_vector - 2;
+      const double per_iteration = vectors_per_iteration * sizeof(double) * static_cast<double>(x.size());
+      const double fitting       = (0.5 * available - 2 * per_iteration) / per_iteration;
       return std::max(shortest, static_cast<unsigned int>(std::min<double>(long_restart, std::max(0., fitting))));
     }
   } // namespace
@@ -299,7 +302,8 @@ namespace dieflow
     const unsigned int short_restart = inner_tolerance == 0 ? 32 : 50;
     info.converged = gmres(short_restart, std::min(max_iterations, long_restart));
     if (!info.converged && info.iterations < max_iterations)
-      info.converged = gmres(affordable_restart(x, short_restart), max_iterations - info.iterations);
+      info.converged =
+        gmres(affordable_restart(x, short_restart, inner_tolerance == 0 ? 1 : 2), max_iterations - info.iterations);
     info.residual_reduction = last_residual / b.l2_norm();
     info.inner_iterations   = velocity_inverse.iterations;
     du = x.block(0);

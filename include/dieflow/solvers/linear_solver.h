@@ -98,11 +98,13 @@ namespace dieflow
      * direct fallback; beyond 300 its preconditioner has failed (16-45 per
      * solve where it works, doc/benchmarks.md).
      */
-    unsigned int max_block_iterations = 300;
+    static constexpr unsigned int default_block_iterations = 300;
+    unsigned int                  max_block_iterations     = default_block_iterations;
     /// The same for the augmented Lagrangian's CG / GMRES (degree 1): 120
     /// to 850 iterations over a run where AMG works; beyond 500 the direct
     /// solver is faster than more Krylov steps.
-    unsigned int max_augmented_iterations = 500;
+    static constexpr unsigned int default_augmented_iterations = 500;
+    unsigned int                  max_augmented_iterations     = default_augmented_iterations;
 
     /// The velocity components' constant modes, for the AMG preconditioner.
     void
