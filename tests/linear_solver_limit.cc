@@ -19,8 +19,6 @@
 
 #include <deal.II/base/mpi.h>
 
-#include <cmath>
-
 using namespace dieflow;
 
 namespace
@@ -33,17 +31,6 @@ namespace
                          std::to_string(degree) +
                          "\nend\nsubsection Linear solver\n set Method = iterative\n set Maximum iterations = " + limit +
                          "\nend\n");
-  }
-
-  /// Every quantity (ram force, die forces, probe velocity) within @p tolerance.
-  bool
-  agree(const CycleSummary &a, const CycleSummary &b, const double tolerance)
-  {
-    bool same = !a.quantities.empty() && a.quantities.size() == b.quantities.size();
-    for (unsigned int k = 0; same && k < a.quantities.size(); ++k)
-      same = a.quantities[k].second == b.quantities[k].second ||
-             std::abs(a.quantities[k].second / b.quantities[k].second - 1) < tolerance;
-    return same;
   }
 } // namespace
 
@@ -63,7 +50,7 @@ main(int argc, char **argv)
              standard.converged && standard.linear_counts.direct_fallbacks == 0);
       report(name + "with a limit of " + limit + ": converged, solves fell back to the direct solver, no partial step",
              limited.converged && counts.direct_fallbacks > 0 && counts.partial_steps == 0);
-      report(name + "the same ram force, die forces and probe velocity (1e-7)", agree(standard, limited, 1e-7));
+      report(name + "the same ram force, die forces and probe velocity (1e-7)", quantities_agree(standard, limited, 1e-7));
     }
   try
     {

@@ -25,6 +25,27 @@ near(const double a, const double b, const double tolerance = 1e-12)
   return std::abs(a - b) <= tolerance;
 }
 
+/// The relative gap of @p a from @p b; equal values have none (zeros too:
+/// the friction forces of frictionless dies).
+inline double
+relative_gap(const double a, const double b)
+{
+  return a == b ? 0. : std::abs(a / b - 1);
+}
+
+/// Whether two cycles report the same quantities (the ram force, each die's
+/// normal and friction force, the probe's velocity) within @p tolerance of
+/// each other, relative.
+inline bool
+quantities_agree(const dieflow::CycleSummary &a, const dieflow::CycleSummary &b, const double tolerance)
+{
+  bool same = !a.quantities.empty() && a.quantities.size() == b.quantities.size();
+  for (unsigned int k = 0; same && k < a.quantities.size(); ++k)
+    same = a.quantities[k].first == b.quantities[k].first &&
+           relative_gap(a.quantities[k].second, b.quantities[k].second) < tolerance;
+  return same;
+}
+
 /// Runs the deck @p text (written to deck.prm; results in results/, no VTU
 /// unless @p text sets Write VTU: an entry may be set only once).
 inline dieflow::RunSummary
