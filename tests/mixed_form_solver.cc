@@ -94,7 +94,7 @@ namespace
   bool
   agree(const CycleSummary &d, const CycleSummary &i, const double tolerance)
   {
-    return d.quantities.back().first == "v_x(probe)" && quantities_agree(i, d, tolerance);
+    return quantities_agree(i, d, tolerance) && d.quantities.back().first == "v_x(probe)";
   }
 
   unsigned int
