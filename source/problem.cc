@@ -379,6 +379,7 @@ namespace dieflow
         if (linear_solver.p_multigrid)
           saddle_point_solver->use_p_multigrid(dof_handler);
         last_mixed_tolerance                 = 0;
+        last_mixed_residual                  = 0;
         saddle_point_solver->constraints     = &update_constraints;
         saddle_point_solver->flow            = material.is_newtonian() ? nullptr : &assembled_iterate;
         saddle_point_solver->inner_tolerance = linear_solver.inner_tolerance;
@@ -738,7 +739,9 @@ namespace dieflow
     // cells across: 9 more Newton iterations of some 70 Krylov iterations
     // each, the update 1e-10 of v).
     // The ratio costs a pass of gradients over the mesh: only at the floor.
-    double tolerance = linear_solver.forcing_tolerance(relative_residual, penalty_factor());
+    double tolerance =
+      linear_solver.forcing_tolerance(relative_residual, penalty_factor(), last_mixed_tolerance, last_mixed_residual);
+    last_mixed_residual = relative_residual;
     if (last_mixed_tolerance > 0 && relative_residual <= residual_floor())
       {
         const double ratio = pressure_residual_ratio();

@@ -140,7 +140,8 @@ namespace dieflow
     solve_mixed(Vector<double> &update, const double tolerance);
     /**
      * The mixed solve's tolerance: Newton's forcing term (LinearSolver::
-     * forcing_tolerance()), tightened once Newton's residual is down to its
+     * forcing_tolerance(), no looser in absolute terms than the last
+     * solve's on this mesh where the residual grew), tightened once Newton's residual is down to its
      * round-off floor (residual_floor()) while pressure_residual_ratio()
      * is still above its bound. A solve leaves q
      * = -lambda M^-1 r_p, r_p its pressure rows' residual, so the ratio
@@ -385,8 +386,10 @@ namespace dieflow
     bool                         augmented = false;
     /// The mixed form is in use (iterative linear solver, degree 2).
     bool                         mixed_form = false;
-    /// The last mixed solve's tolerance on this mesh (0: none yet).
+    /// The last mixed solve's tolerance on this mesh (0: none yet), and
+    /// Newton's relative residual it was asked at.
     double                       last_mixed_tolerance = 0;
+    double                       last_mixed_residual  = 0;
     MixedPenalty<dim>            mixed;
     std::unique_ptr<SaddlePointSolver<dim>> saddle_point_solver;
     /// The mixed form's q of the accepted iterate, and the last step's dq.

@@ -167,9 +167,17 @@ namespace dieflow
      * tolerance'. Where @p penalty_factor exceeds 1e7, the factor 0.1 and
      * 'Iterative tolerance' are both multiplied by 1e7 / @p penalty_factor
      * (the carried pressure takes up lambda x the solve's residual).
+     * Given the last solve of this mesh (its tolerance @p previous_tolerance
+     * at the relative residual @p previous_residual; 0: none), a residual
+     * that grew gets no looser an absolute accuracy: tolerance x residual
+     * at most @p previous_tolerance x @p previous_residual (but never below
+     * the tightest tolerance).
      */
     double
-    forcing_tolerance(const double relative_residual, const double penalty_factor) const;
+    forcing_tolerance(const double relative_residual,
+                      const double penalty_factor,
+                      const double previous_tolerance = 0,
+                      const double previous_residual  = 0) const;
     bool inexact_newton = true;
     /// Degree 2: the velocity block's cycle is PMultigrid (else AMG on the Q2 block).
     bool p_multigrid = true;
