@@ -30,8 +30,9 @@ namespace dieflow
    * dofs zero (the condensed system's unknowns are the unconstrained
    * dofs), A_1 = P^T A P the Galerkin operator (which carries the contact,
    * slip and friction rows of A as they are), and A_1^ one ML
-   * smoothed-aggregation V-cycle on it with the rigid-body modes (and the
-   * flow, see initialize()) as near-null space. Algebraic
+   * smoothed-aggregation V-cycle on it (four Chebyshev sweeps per level)
+   * with the rigid-body modes (and the flow, see initialize()) as
+   * near-null space. Algebraic
    * multigrid copes with the short stencil of a Q1 operator better than
    * with Q2's (Heys, Manteuffel, McCormick, Olson, J. Comput. Phys. 204
    * (2005) 520; the "hybrid multigrid" of Kronbichler and Wall, SIAM J.
