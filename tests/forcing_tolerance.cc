@@ -26,7 +26,7 @@ namespace
   bool
   equal(const double a, const double b)
   {
-    return std::abs(a - b) <= 1e-12 * std::abs(b);
+    return relative_gap(a, b) <= 1e-12;
   }
 } // namespace
 

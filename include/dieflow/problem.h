@@ -141,9 +141,9 @@ namespace dieflow
     /**
      * The mixed solve's tolerance: Newton's forcing term (LinearSolver::
      * forcing_tolerance(), no looser in absolute terms than the last
-     * solve's on this mesh where the residual grew), tightened once Newton's residual is down to its
-     * round-off floor (residual_floor()) while pressure_residual_ratio()
-     * is still above its bound. A solve leaves q
+     * solve's on this mesh where the residual grew), tightened once
+     * Newton's residual is down to its round-off floor (residual_floor())
+     * while pressure_residual_ratio() is still above its bound. A solve leaves q
      * = -lambda M^-1 r_p, r_p its pressure rows' residual, so the ratio
      * after a solve scales with the tolerance it was given: the next one
      * gets last tolerance x 0.1 x bound / ratio, but no less than 1e-2 of
