@@ -32,6 +32,11 @@ two cycles, half the cells across and then its global refinement, so that
 the fine mesh starts from the coarse answer; the figures are those of the
 whole run, the unknowns the fine mesh's.)
 
+Its per decade: the Krylov iterations over the decades by which the
+iterative (degree 2) solves reduced their residuals (summary.json's
+residual_decades): the preconditioner's rate, which the forcing term does
+not change (later Newton solves ask more decades on finer meshes).
+
 Memory is also given per unknown (peak KB per unknown, KB = 1024 bytes,
 as the kernel counts it). The growth exponent is
 fitted to the sizes from 40,000 unknowns on, where set-up costs no longer
@@ -57,7 +62,7 @@ def run(program, base, across, method, limit):
     total = lambda key: sum(k["linear_solver"].get(key, 0) for k in cycles)
     return dict(status=status, dofs=c["dofs"], its=sum(k["nonlinear_iterations"] for k in cycles),
                 solves=sum(k["linear_solves"] for k in cycles), krylov=total("krylov_iterations"),
-                inner=total("inner_iterations"), fallbacks=total("direct_fallbacks"),
+                inner=total("inner_iterations"), decades=total("residual_decades"), fallbacks=total("direct_fallbacks"),
                 partial=total("partial_steps"), wall=time.time() - start,
                 solve=s["stage_wall_time"].get("linear solve", 0), memory=s["peak_memory_mb"],
                 ram=c["boundary_force"]["1"][0], div=c["divergence_ratio"])
@@ -113,10 +118,10 @@ def main():
         print("deck additions: " + args.extra)
     print("machine: " + machine())
     print()
-    print("| method | cells across | dofs | exit | Newton its | linear solves | Krylov its | inner its | direct fallbacks "
+    print("| method | cells across | dofs | exit | Newton its | linear solves | Krylov its | its per decade | inner its | direct fallbacks "
           "| partial steps | wall [s] | linear solve [s] | peak memory [MB] | KB per unknown | ram force [N/mm] "
           "| divergence ratio |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     results = {m: {} for m in args.methods.split(",")}
     stopped = set()
     for across in [int(a) for a in args.across.split(",")]:
@@ -125,12 +130,13 @@ def main():
                 continue
             r = run(args.program, base, across // 2 if args.nested else across, method, args.limit)
             if r is None:
-                print("| %s | %d | | over %.0f s | | | | | | | | | | | | |" % (method, across, args.limit), flush=True)
+                print("| %s | %d | | over %.0f s | | | | | | | | | | | | | |" % (method, across, args.limit), flush=True)
                 stopped.add(method)
                 continue
             results[method][across] = r
-            print("| %s | %d | %d | %d | %d | %d | %d | %d | %d | %d | %.2f | %.2f | %.0f | %.2f | %.2f | %.1e |" % (
-                method, across, r["dofs"], r["status"], r["its"], r["solves"], r["krylov"], r["inner"], r["fallbacks"],
+            rate = "%.2f" % (r["krylov"] / r["decades"]) if r["decades"] > 0 else "-"
+            print("| %s | %d | %d | %d | %d | %d | %d | %s | %d | %d | %d | %.2f | %.2f | %.0f | %.2f | %.2f | %.1e |" % (
+                method, across, r["dofs"], r["status"], r["its"], r["solves"], r["krylov"], rate, r["inner"], r["fallbacks"],
                 r["partial"], r["wall"], r["solve"], r["memory"], 1024 * r["memory"] / r["dofs"],
                 r["ram"], r["div"]), flush=True)
     print()

@@ -770,6 +770,8 @@ namespace dieflow
     ++linear_solver.counts.iterative_solves;
     linear_solver.counts.krylov_iterations += info.iterations;
     linear_solver.counts.inner_iterations += info.inner_iterations;
+    if (info.residual_reduction > 0 && info.residual_reduction < 1)
+      linear_solver.counts.residual_decades += -std::log10(info.residual_reduction);
     // A solve that stopped at its iteration limit having reduced its
     // residual tenfold is still a descent step of an inexact Newton method
     // (forcing term 0.1); where the direct fallback would not fit, taking it

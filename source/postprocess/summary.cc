@@ -239,6 +239,7 @@ namespace dieflow
             << ", \"iterative_solves\": " << s.linear_counts.iterative_solves
             << ", \"krylov_iterations\": " << s.linear_counts.krylov_iterations
             << ", \"inner_iterations\": " << s.linear_counts.inner_iterations
+            << ", \"residual_decades\": " << number(s.linear_counts.residual_decades)
             << ", \"direct_fallbacks\": " << s.linear_counts.direct_fallbacks
             << ", \"partial_steps\": " << s.linear_counts.partial_steps << "},\n"
             << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"
