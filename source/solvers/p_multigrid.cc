@@ -135,7 +135,18 @@ namespace dieflow
     // 122.9 s (Norton-Hoff m = 0.05); the Q1 levels are cheap beside the
     // Q2 smoothing.
     amg_data.smoother_sweeps = 4;
-    initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, modes, amg_data);
+    // Aggregates of whole nodes (the dim velocity components of a vertex,
+    // consecutive in coarse_dofs, which is never renumbered): smoothed
+    // aggregation interpolates the rotations only where an aggregate holds
+    // every component of its nodes (Vanek, Mandel, Brezina 1996). On a
+    // channel with a traction-free outlet (Stokes, 2 x 1 box, 32 / 64 / 128
+    // cells across) it keeps the Krylov iterations per decade at 2.79 /
+    // 2.82 / 2.85, as with the Q1 problem solved exactly (2.75 / 2.78 /
+    // 2.78), against 2.89 / 3.23 / 3.59 with aggregates of single dofs; on
+    // die2d it changes little (241 / 337 against 242 / 332 Krylov
+    // iterations at 64 / 128 cells across; m = 0.05, 507 / 550 against 520
+    // / 556 at 32 / 64). doc/benchmarks.md.
+    initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, modes, amg_data, dim);
     residual.reinit(A.m());
     coarse_residual.reinit(coarse_matrix.m());
     coarse_correction.reinit(coarse_matrix.m());

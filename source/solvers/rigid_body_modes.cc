@@ -53,7 +53,8 @@ namespace dieflow
                                    dealii::TrilinosWrappers::SparseMatrix &                          copy,
                                    const dealii::SparseMatrix<double> &                              matrix,
                                    const std::vector<double> &                                       modes,
-                                   const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data)
+                                   const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data,
+                                   const unsigned int pde_equations)
   {
     Assert(modes.size() % matrix.m() == 0 && modes.size() >= n_rigid_body_modes<dim> * matrix.m(),
            dealii::ExcInternalError());
@@ -66,6 +67,8 @@ namespace dieflow
     parameters.set("null space: type", "pre-computed");
     parameters.set("null space: dimension", static_cast<int>(modes.size() / matrix.m()));
     parameters.set("null space: vectors", const_cast<double *>(modes.data()));
+    if (pde_equations > 1)
+      parameters.set("PDE equations", static_cast<int>(pde_equations));
     amg.initialize(copy, parameters);
   }
 
@@ -76,7 +79,8 @@ namespace dieflow
                                       dealii::TrilinosWrappers::SparseMatrix &,
                                       const dealii::SparseMatrix<double> &,
                                       const std::vector<double> &,
-                                      const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &);
+                                      const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &,
+                                      const unsigned int);
   template std::vector<double>
   rigid_body_modes(const dealii::DoFHandler<3> &);
   template void
@@ -84,5 +88,6 @@ namespace dieflow
                                       dealii::TrilinosWrappers::SparseMatrix &,
                                       const dealii::SparseMatrix<double> &,
                                       const std::vector<double> &,
-                                      const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &);
+                                      const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &,
+                                      const unsigned int);
 } // namespace dieflow

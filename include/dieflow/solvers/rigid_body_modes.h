@@ -37,7 +37,9 @@ namespace dieflow
    * near-null vectors, each of the matrix's size) as near-null space and the
    * settings of @p data (velocity_amg_data()); @p copy receives the
    * Trilinos copy of @p matrix the preconditioner works on (keep it alive
-   * as long as @p amg).
+   * as long as @p amg). @p pde_equations > 1: the matrix's dofs come in
+   * blocks of that many per node (the components of one support point,
+   * consecutive), and ML aggregates nodes, not single dofs.
    */
   template <int dim>
   void
@@ -45,7 +47,8 @@ namespace dieflow
                                    dealii::TrilinosWrappers::SparseMatrix &                          copy,
                                    const dealii::SparseMatrix<double> &                              matrix,
                                    const std::vector<double> &                                       modes,
-                                   const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data);
+                                   const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data,
+                                   const unsigned int pde_equations = 1);
 } // namespace dieflow
 
 #endif
