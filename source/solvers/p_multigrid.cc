@@ -142,10 +142,12 @@ namespace dieflow
     // channel with a traction-free outlet (Stokes, 2 x 1 box, 32 / 64 / 128
     // cells across) it keeps the Krylov iterations per decade at 2.79 /
     // 2.82 / 2.85, as with the Q1 problem solved exactly (2.75 / 2.78 /
-    // 2.78), against 2.89 / 3.23 / 3.59 with aggregates of single dofs; on
-    // die2d it changes little (241 / 337 against 242 / 332 Krylov
-    // iterations at 64 / 128 cells across; m = 0.05, 507 / 550 against 520
-    // / 556 at 32 / 64). doc/benchmarks.md.
+    // 2.78), against 2.89 / 3.23 / 3.59 with aggregates of single dofs. On
+    // die2d it is neutral in time: the same counts to 1.5M unknowns (64 /
+    // 128 cells across: 242 / 332 Krylov iterations against 241 / 337;
+    // m = 0.05, 520 / 556 against 507 / 550 at 32 / 64), and at 4.16M 525
+    // against 475 iterations in the same wall time (639.5 / 643.8 s) with
+    // 4 % less memory. doc/benchmarks.md.
     initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, modes, amg_data, dim);
     residual.reinit(A.m());
     coarse_residual.reinit(coarse_matrix.m());
