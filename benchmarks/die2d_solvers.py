@@ -80,9 +80,10 @@ def exponent(rows, from_dofs=40000):
     return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x), len(rows)
 
 
-def ungraded_die2d(root, degree, extra="", cycles=1):
+def ungraded_die2d(root, degree, extra="", cycles=1, layout="blocks"):
     """The default deck as doc/benchmarks.md measured the solvers: the
-    built-in mesh without corner grading, velocity degree @p degree, plus
+    built-in mesh without corner grading, its blocks joined as @p layout
+    says, velocity degree @p degree, plus
     the deck text @p extra; one mesh per run, or @p cycles meshes, each the
     global refinement of the one before."""
     # The deck refuses an entry set twice: the entries set here and in
@@ -92,9 +93,9 @@ def ungraded_die2d(root, degree, extra="", cycles=1):
     own |= set(re.findall(r"set\s+([^=\n]+?)\s*=", extra))
     base = "".join(line for line in open(os.path.join(root, "parameters", "die2d.prm")).readlines()
                    if not any(re.match(r"\s*set\s+%s\s*=" % re.escape(key), line) for key in own))
-    return base + ("\nsubsection Mesh\n  set Corner refinements = 0\n  subsection Die2d\n    set Layout = blocks\n"
+    return base + ("\nsubsection Mesh\n  set Corner refinements = 0\n  subsection Die2d\n    set Layout = %s\n"
                    "  end\nend\nsubsection Discretisation\n  set Velocity degree = %d\nend\n"
-                   "subsection Refinement\n  set Cycles = %d\n  set Strategy = global\nend\n" % (degree, cycles)) + extra
+                   "subsection Refinement\n  set Cycles = %d\n  set Strategy = global\nend\n" % (layout, degree, cycles)) + extra
 
 
 def main():
@@ -108,11 +109,14 @@ def main():
     parser.add_argument("--methods", default="direct,iterative")
     parser.add_argument("--extra", default="")
     parser.add_argument("--nested", action="store_true")
+    # blocks: the layout of the tables before 2026-11-29; bisected: the
+    # deck's default, whose cells at the die corners are not flattened.
+    parser.add_argument("--layout", default="blocks", choices=("blocks", "bisected"))
     args = parser.parse_args()
-    base = ungraded_die2d(root, args.degree, args.extra.replace("\\n", "\n") + "\n", 2 if args.nested else 1)
+    base = ungraded_die2d(root, args.degree, args.extra.replace("\\n", "\n") + "\n", 2 if args.nested else 1, args.layout)
 
-    print("die2d N1 (Newtonian, contact with Coulomb friction), velocity degree %d, %s" % (
-        args.degree, "two cycles per run: half the cells across, then refined globally" if args.nested else
+    print("die2d N1 (Newtonian, contact with Coulomb friction), velocity degree %d, layout %s, %s" % (
+        args.degree, args.layout, "two cycles per run: half the cells across, then refined globally" if args.nested else
         "one mesh per run"))
     if args.extra:
         print("deck additions: " + args.extra)
