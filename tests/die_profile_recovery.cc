@@ -110,7 +110,7 @@ namespace
                   "subsection Refinement\n set Cycles = 3\n set Strategy = adaptive\n set Indicator = kelly\n"
                   " set Refine fraction = 0.3\nend\n");
     const auto rows = profile("results/die-profile-4.dat");
-    return {roughness(rows, 3, false), roughness(rows, 8, false), roughness(rows, 4, true), roughness(rows, 9, true)};
+    return {{roughness(rows, 3, false), roughness(rows, 8, false), roughness(rows, 4, true), roughness(rows, 9, true)}};
   }
 } // namespace
 

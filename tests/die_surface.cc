@@ -146,11 +146,11 @@ main()
     write_boundary(tria, {3}, "container.msh");
     write_boundary(tria, {4}, "die.msh");
     const Die2dGeometry &g = parameters.die2d;
-    write_facets<2>({{g.corner('B'), g.corner('C')}}, "container-line.msh");
-    write_facets<2>({{g.corner('C'), g.corner('D')}, {g.corner('D'), g.corner('E')}}, "die-lines.msh");
+    write_facets<2>({{{g.corner('B'), g.corner('C')}}}, "container-line.msh");
+    write_facets<2>({{{g.corner('C'), g.corner('D')}}, {{g.corner('D'), g.corner('E')}}}, "die-lines.msh");
     // The die face and land 0.1 mm into the metal.
     const dealii::Tensor<1, 2> down({0, -0.1});
-    write_facets<2>({{g.corner('C') + down, g.corner('D') + down}, {g.corner('D') + down, g.corner('E') + down}},
+    write_facets<2>({{{g.corner('C') + down, g.corner('D') + down}}, {{g.corner('D') + down, g.corner('E') + down}}},
                     "die-off.msh");
 
     const CycleSummary mesh_faces = die2d("");
@@ -191,15 +191,15 @@ main()
     const double w_i = g.inlet_half_width, w_o = g.outlet_half_width;
     using P = Point<3>;
     // y walls y = h(x), z in [0, w(x)]; z walls z = w(x), y in [0, h(x)].
-    write_facets<3>({{P(0, h_i, 0), P(x_d, h_o, 0), P(x_d, h_o, w_o)},
-                     {P(0, h_i, 0), P(x_d, h_o, w_o), P(0, h_i, w_i)},
-                     {P(x_d, h_o, 0), P(x_e, h_o, 0), P(x_e, h_o, w_o)},
-                     {P(x_d, h_o, 0), P(x_e, h_o, w_o), P(x_d, h_o, w_o)}},
+    write_facets<3>({{{P(0, h_i, 0), P(x_d, h_o, 0), P(x_d, h_o, w_o)}},
+                     {{P(0, h_i, 0), P(x_d, h_o, w_o), P(0, h_i, w_i)}},
+                     {{P(x_d, h_o, 0), P(x_e, h_o, 0), P(x_e, h_o, w_o)}},
+                     {{P(x_d, h_o, 0), P(x_e, h_o, w_o), P(x_d, h_o, w_o)}}},
                     "die-y.msh");
-    write_facets<3>({{P(0, 0, w_i), P(x_d, 0, w_o), P(x_d, h_o, w_o)},
-                     {P(0, 0, w_i), P(x_d, h_o, w_o), P(0, h_i, w_i)},
-                     {P(x_d, 0, w_o), P(x_e, 0, w_o), P(x_e, h_o, w_o)},
-                     {P(x_d, 0, w_o), P(x_e, h_o, w_o), P(x_d, h_o, w_o)}},
+    write_facets<3>({{{P(0, 0, w_i), P(x_d, 0, w_o), P(x_d, h_o, w_o)}},
+                     {{P(0, 0, w_i), P(x_d, h_o, w_o), P(0, h_i, w_i)}},
+                     {{P(x_d, 0, w_o), P(x_e, 0, w_o), P(x_e, h_o, w_o)}},
+                     {{P(x_d, 0, w_o), P(x_e, h_o, w_o), P(x_d, h_o, w_o)}}},
                     "die-z.msh");
 
     const CycleSummary mesh_faces = rectbar("");

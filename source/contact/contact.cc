@@ -1038,7 +1038,7 @@ namespace dieflow
     for (const auto id : parameters.die_ids)
       {
         summary.die_normal_force[id] = summary.die_friction_force[id] = 0;
-        summary.contact_length[id]   = {0, 0, 0};
+        summary.contact_length[id]   = {{0, 0, 0}};
       }
     for (const auto &r : results)
       {
