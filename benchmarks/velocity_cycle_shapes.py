@@ -20,9 +20,9 @@ walls in the two layouts of the built-in mesh.
     benchmarks/velocity_cycle_shapes.py [--program build/dieflow]
 """
 
-import argparse, json, os, subprocess, tempfile
+import argparse, os, tempfile
 
-from die2d_levels import machine
+from die2d_levels import machine, run_die2d
 
 
 def channel_mesh(path, n, shape):
@@ -121,7 +121,6 @@ subsection Mesh
   set Source = die2d
   subsection Die2d
     set Layout = %s
-    set Cells across = %d
   end
 end
 subsection Material
@@ -146,16 +145,30 @@ end
 """
 
 
-def cycles_per_solve(program, deck_text, work):
-    deck = os.path.join(work, "deck.prm")
-    with open(deck, "w") as f:
-        f.write(deck_text + SOLVER + "set Output directory = %s\nset Write VTU = false\n" % work)
-    status = subprocess.run([program, deck], stdout=subprocess.DEVNULL).returncode
+def cycles_per_solve(program, deck_text, across=1):
+    """The dofs and the cycles per six decades of a run of @p deck_text
+    (die2d_levels.run_die2d, which also sets the die2d mesh's Cells across:
+    a deck of another mesh source does not read it), or None if it failed."""
+    status, summary = run_die2d(program, deck_text + SOLVER, across)
     if status != 0:
         return None
-    cycle = json.load(open(os.path.join(work, "summary.json")))["cycles"][-1]
+    cycle = summary["cycles"][-1]
     counts = cycle["linear_solver"]
     return cycle["dofs"], counts["inner_iterations"] / counts["krylov_iterations"]
+
+
+def print_row(label, sizes, results):
+    """One table row: @p results, a (dofs, cycles) pair or None per size."""
+    dofs = " / ".join("-" if r is None else str(r[0]) for r in results)
+    rates = " / ".join("failed" if r is None else "%.2f" % r[1] for r in results)
+    print("| %s | %s | %s | %s |" % (label, sizes, dofs, rates), flush=True)
+
+
+def channel_run(program, n, shape):
+    with tempfile.TemporaryDirectory() as work:
+        mesh = os.path.join(work, "mesh.msh")
+        channel_mesh(mesh, n, shape)
+        return cycles_per_solve(program, CHANNEL % mesh)
 
 
 def main():
@@ -172,24 +185,10 @@ def main():
                 ("channel with a 270-degree step", "step"), ("channel tapering over 2 (14 degrees)", "taper14"),
                 ("channel tapering over 0.5 (45 degrees)", "taper45")]
     for label, shape in families:
-        dofs, rates = [], []
-        for n in (16, 32, 64):
-            with tempfile.TemporaryDirectory() as work:
-                mesh = os.path.join(work, "mesh.msh")
-                channel_mesh(mesh, n, shape)
-                result = cycles_per_solve(args.program, CHANNEL % mesh, work)
-            dofs.append("-" if result is None else str(result[0]))
-            rates.append("failed" if result is None else "%.2f" % result[1])
-        print("| %s | n = 16 / 32 / 64 | %s | %s |" % (label, " / ".join(dofs), " / ".join(rates)), flush=True)
+        print_row(label, "n = 16 / 32 / 64", [channel_run(args.program, n, shape) for n in (16, 32, 64)])
     for layout in ("blocks", "bisected"):
-        dofs, rates = [], []
-        for across in (32, 64, 128):
-            with tempfile.TemporaryDirectory() as work:
-                result = cycles_per_solve(args.program, DIE2D % (layout, across), work)
-            dofs.append("-" if result is None else str(result[0]))
-            rates.append("failed" if result is None else "%.2f" % result[1])
-        print("| die2d, no-slip dies, layout %s | 32 / 64 / 128 across | %s | %s |" % (
-            layout, " / ".join(dofs), " / ".join(rates)), flush=True)
+        print_row("die2d, no-slip dies, layout " + layout, "32 / 64 / 128 across",
+                  [cycles_per_solve(args.program, DIE2D % layout, across) for across in (32, 64, 128)])
 
 
 if __name__ == "__main__":
