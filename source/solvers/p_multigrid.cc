@@ -148,7 +148,22 @@ namespace dieflow
     // m = 0.05, 520 / 556 against 507 / 550 at 32 / 64), and at 4.16M 525
     // against 475 iterations in the same wall time (639.5 / 643.8 s) with
     // 4 % less memory. doc/benchmarks.md.
-    initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, modes, amg_data, dim);
+    // In 2D two Jacobi sweeps on ML's tentative prolongator instead of
+    // one: on sheared cells one sweep leaves ML's V-cycle weaker with every
+    // refinement, two keep it as strong as an exact Q1 solve (condition
+    // number of the cycle on A, Stokes, a channel whose outlet part is
+    // parallelograms sheared 27 degrees, 16 / 32 / 64 / 128 cells across:
+    // 1.41 / 1.45 / 1.67 / 1.96 with one sweep, 1.42 at 32 and 128 with two
+    // and with KLU on Q1; die2d's bisected layout, no-slip dies, 32 / 64 /
+    // 128: 1.71 / 2.09 / 2.43 with one, 1.65 / 1.78 / 1.93 with two, 1.65 /
+    // 1.77 / 1.92 exact). die2d N1 to 4.26M unknowns: 12.7 to 14.0 Krylov
+    // iterations per solve instead of 14.2 to 18.9, in the same time, for
+    // 15 % more memory. In 3D (rectbar3d, 8 x 4 / 16 x 8 across) the
+    // iterations stayed (164 against 166) and time and memory grew 3-8 %:
+    // one sweep there. doc/benchmarks.md.
+    const unsigned int prolongator_sweeps = dim == 2 ? 2 : 1;
+    initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, modes, amg_data, dim,
+                                          prolongator_sweeps);
     residual.reinit(A.m());
     coarse_residual.reinit(coarse_matrix.m());
     coarse_correction.reinit(coarse_matrix.m());

@@ -54,7 +54,8 @@ namespace dieflow
                                    const dealii::SparseMatrix<double> &                              matrix,
                                    const std::vector<double> &                                       modes,
                                    const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data,
-                                   const unsigned int pde_equations)
+                                   const unsigned int pde_equations,
+                                   const unsigned int prolongator_sweeps)
   {
     Assert(modes.size() % matrix.m() == 0 && modes.size() >= n_rigid_body_modes<dim> * matrix.m(),
            dealii::ExcInternalError());
@@ -69,6 +70,7 @@ namespace dieflow
     parameters.set("null space: vectors", const_cast<double *>(modes.data()));
     if (pde_equations > 1)
       parameters.set("PDE equations", static_cast<int>(pde_equations));
+    parameters.set("aggregation: smoothing sweeps", static_cast<int>(prolongator_sweeps));
     amg.initialize(copy, parameters);
   }
 
@@ -80,6 +82,7 @@ namespace dieflow
                                       const dealii::SparseMatrix<double> &,
                                       const std::vector<double> &,
                                       const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &,
+                                      const unsigned int,
                                       const unsigned int);
   template std::vector<double>
   rigid_body_modes(const dealii::DoFHandler<3> &);
@@ -89,5 +92,6 @@ namespace dieflow
                                       const dealii::SparseMatrix<double> &,
                                       const std::vector<double> &,
                                       const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &,
+                                      const unsigned int,
                                       const unsigned int);
 } // namespace dieflow

@@ -40,6 +40,9 @@ namespace dieflow
    * as long as @p amg). @p pde_equations > 1: the matrix's dofs come in
    * blocks of that many per node (the components of one support point,
    * consecutive), and ML aggregates nodes, not single dofs.
+   * @p prolongator_sweeps: damped-Jacobi sweeps that smooth ML's tentative
+   * prolongator (its "aggregation: smoothing sweeps"; one is classical
+   * smoothed aggregation).
    */
   template <int dim>
   void
@@ -48,7 +51,8 @@ namespace dieflow
                                    const dealii::SparseMatrix<double> &                              matrix,
                                    const std::vector<double> &                                       modes,
                                    const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data,
-                                   const unsigned int pde_equations = 1);
+                                   const unsigned int pde_equations      = 1,
+                                   const unsigned int prolongator_sweeps = 1);
 } // namespace dieflow
 
 #endif
