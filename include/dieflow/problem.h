@@ -390,6 +390,8 @@ namespace dieflow
     /// Newton's relative residual it was asked at.
     double                       last_mixed_tolerance = 0;
     double                       last_mixed_residual  = 0;
+    /// ||du|| / ||v|| of the last mixed-form step.
+    double                       last_mixed_update    = 1;
     MixedPenalty<dim>            mixed;
     std::unique_ptr<SaddlePointSolver<dim>> saddle_point_solver;
     /// The mixed form's q of the accepted iterate, and the last step's dq.
