@@ -1,6 +1,6 @@
 // dieflow: steady viscoplastic flow through rigid dies with unilateral,
 // frictional contact. See README.md and `dieflow --help`.
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 int
 main(int argc, char **argv)

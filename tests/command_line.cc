@@ -4,7 +4,7 @@
 // at once with its message (this once hung: the file name in deal.II's
 // message was replaced by itself forever), and so does an output directory
 // that cannot be created (it once ended in an internal error, exit 3).
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

@@ -8,7 +8,7 @@
 // corner node's reaction into normal and friction forces differs between
 // the two, by a corner node's share, so the die's force is compared as the
 // vector integral of sigma n, not as the sum of |F_n|.)
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

@@ -9,7 +9,7 @@
 //    land: its velocity is its slip along the face, whose normal component
 //    on the land is negative, and the land carries no pressure there;
 //  - E, where the land meets the free outlet, is a contact node.
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

@@ -6,7 +6,7 @@
 // (the corner C at rest in both), and the two discrete solutions must agree
 // to round-off (1e-8 relative: the penalty's round-off floor is
 // 3e-17 x 1e7 x sqrt(738 dofs) = 8e-9).
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

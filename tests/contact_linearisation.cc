@@ -10,10 +10,12 @@
 // velocity degree 1 and 2 (contact at the edge midpoints too).
 // Step e = 1e-6 |v|/|w|: truncation ~1e-12; round-off of R (penalty
 // lambda = 1e7 eta) ~1e-9 relative to R, divided by e: tolerance 1e-5.
-#include <dieflow/boundary_conditions.h>
-#include <dieflow/contact/contact.h>
+#include <dieflow/flow/boundary_conditions.h>
+#include <dieflow/contact/contact_set.h>
+#include <dieflow/postprocess/contact_output.h>
+#include <dieflow/system/system_assembler.h>
 #include <dieflow/mesh/geometry.h>
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
@@ -65,7 +67,8 @@ namespace
     contact.setup(wall_nodes, prescribed, false);
     contact.set_scales(eta, lambda);
     FlowAssembler<2> flow(material, nullptr);
-    flow.set_penalty(lambda);
+    FlowTerms<2>     terms;
+    terms.penalty = lambda;
     flow.set_tangent(FlowAssembler<2>::Tangent::standard);
 
     const auto make = [&]() {
@@ -99,7 +102,7 @@ namespace
 
     // Decide the states from v, as update_state() does, and freeze them.
     Vector<double> unused, reactions;
-    flow.assemble_residual(dofs, v, update_constraints, unused, reactions);
+    flow.assemble_residual(dofs, v, terms, update_constraints, unused, reactions);
     std::ostringstream log;
     contact.update(v, reactions, log);
     make();
@@ -110,11 +113,12 @@ namespace
     dealii::SparsityPattern pattern;
     pattern.copy_from(dsp);
     dealii::SparseMatrix<double> J(pattern);
-    Vector<double>               rhs(dofs.n_dofs()), raw(dofs.n_dofs());
-    assemble_with_contact(flow, contact, dofs, v, update_constraints, Linearization::newton, &J, rhs, raw);
+    Vector<double>               rhs(dofs.n_dofs());
+    SystemAssembler<2> system(dofs, update_constraints, flow, contact);
+    system.assemble(v, terms, Linearization::newton, &J, rhs);
 
     CycleSummary states;
-    contact.summarise(contact.results(v), v.linfty_norm(), states);
+    summarise_contact(contact, contact.results(v), v.linfty_norm(), states);
 
     Vector<double> w(dofs.n_dofs());
     for (unsigned int i = 0; i < w.size(); ++i)
@@ -124,8 +128,8 @@ namespace
     Vector<double> plus = v, minus = v, r_plus(w.size()), r_minus(w.size()), Jw(w.size());
     plus.add(e, w);
     minus.add(-e, w);
-    assemble_with_contact(flow, contact, dofs, plus, update_constraints, Linearization::newton, nullptr, r_plus, raw);
-    assemble_with_contact(flow, contact, dofs, minus, update_constraints, Linearization::newton, nullptr, r_minus, raw);
+    system.assemble(plus, terms, Linearization::newton, nullptr, r_plus);
+    system.assemble(minus, terms, Linearization::newton, nullptr, r_minus);
     J.vmult(Jw, w);
     double error = 0, scale = 0;
     for (unsigned int i = 0; i < w.size(); ++i)

@@ -20,7 +20,7 @@
 #ifndef dieflow_tests_decks_h
 #define dieflow_tests_decks_h
 
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

@@ -11,7 +11,7 @@
 // stick along the die, whose wall nodes in 3D also lie on a symmetry
 // plane), with velocity degree 1 and 2; but for how a corner node's
 // reaction is split between the ram and the container wall (see below).
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

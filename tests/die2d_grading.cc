@@ -12,7 +12,7 @@
 //    cells across.
 #include <dieflow/mesh/geometry.h>
 #include <dieflow/mesh/singular_points.h>
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 
@@ -68,7 +68,7 @@ main()
     {
       MeshParameters parameters;
       parameters.die2d.cells_across = 8;
-      parameters.die2d.layout       = layout;
+      parameters.die2d.layout       = layout == "blocks" ? Die2dGeometry::Layout::blocks : Die2dGeometry::Layout::bisected;
       Triangulation<2> tria;
       make_mesh(parameters, tria);
       const Die2dGeometry &g = parameters.die2d;

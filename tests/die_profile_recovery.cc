@@ -1,4 +1,4 @@
-// The degree-1 die profiles' recovered columns (ContactSet::write_profiles):
+// The degree-1 die profiles' recovered columns (write_die_profiles()):
 // the pressure as a least-squares line through three raw nodal values
 // along the wall, the shear t.sigma n of the cell-averaged stress
 // (vertex_stresses()), against exact wall tractions and the raw values:

@@ -19,7 +19,7 @@
 // and a die surface 0.1 mm off the metal's wall, a missing file and a
 // surface for an id that is not a die are refused with a message that names
 // the entry.
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 
@@ -176,7 +176,7 @@ main()
   }
   {
     MeshParameters parameters;
-    parameters.source               = "rectangular bar quarter";
+    parameters.source               = MeshParameters::Source::rectangular_bar_quarter;
     parameters.die2d.cells_across   = 4;
     parameters.die2d.cells_in_depth = 2;
     Triangulation<3> tria;

@@ -7,7 +7,7 @@
 // it stopped.
 // The contact, viscosity-law and mass-balance advice are checked for each
 // friction law, each law kind, and each penalty regime.
-#include <dieflow/contact/contact.h>
+#include <dieflow/contact/contact_parameters.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/solvers/linear_solver.h>
@@ -111,8 +111,8 @@ namespace
   message(const Failure failure, const std::string &method, const std::string &tangent)
   {
     NonlinearSolver solver;
-    solver.method             = method;
-    solver.newton_tangent     = tangent;
+    solver.method             = NonlinearSolver::method_named(method);
+    solver.newton_tangent     = NonlinearSolver::tangent_named(tangent);
     solver.maximum_iterations = 6;
     solver.residual_tolerance = 1e-8;
     solver.update_tolerance   = 0;
@@ -238,6 +238,7 @@ main()
   report("augmented Lagrangian: its divergence tolerance, not the penalty factor",
          contains(augmented, "Divergence tolerance (it is 1e-7)") && !contains(augmented, "Penalty factor"));
   report("status: failed above the tolerance, warning above a tenth, else ok",
-         mass_balance_status(balance, 1e-3) == "failed" && mass_balance_status(balance, 0.5) == "warning" &&
-           mass_balance_status(balance, 1) == "ok");
+         mass_balance_status(balance, 1e-3) == MassBalanceStatus::failed &&
+           mass_balance_status(balance, 0.5) == MassBalanceStatus::warning &&
+           mass_balance_status(balance, 1) == MassBalanceStatus::ok);
 }

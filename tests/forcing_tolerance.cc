@@ -1,5 +1,5 @@
 // The inexact Newton method's tolerance for an iterative solve
-// (LinearSolver::forcing_tolerance()), against its definition:
+// (LinearSolverParameters::forcing_tolerance()), against its definition:
 //  - 0.1 x Newton's relative residual r, between 'Iterative tolerance'
 //    (1e-6) and 1e-2, both scaled by 1e7 / penalty factor above 1e7;
 //  - after a solve on the same mesh (tolerance t0 at residual r0), a
@@ -36,7 +36,7 @@ int
 main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  LinearSolver solver;
+  LinearSolverParameters solver;
   report("forcing term 0.1 r: r = 1e-3 gives 1e-4", equal(solver.forcing_tolerance(1e-3, 1e7), 1e-4));
   report("capped at 1e-2 (r = 0.5) and floored at 1e-6 (r = 1e-9)",
          equal(solver.forcing_tolerance(0.5, 1e7), 1e-2) && equal(solver.forcing_tolerance(1e-9, 1e7), 1e-6));

@@ -4,7 +4,7 @@
 #ifndef dieflow_tests_fuzz_h
 #define dieflow_tests_fuzz_h
 
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>

@@ -64,7 +64,8 @@ namespace
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
         J.set(i, j, values[i][j]);
-    LinearSolver solver;
+    const LinearSolverParameters parameters;
+    LinearSolver                 solver(parameters);
     solver.factorize(J, false);
     dealii::Vector<double> b(3), x;
     b[0] = 1;

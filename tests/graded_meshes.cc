@@ -18,7 +18,7 @@
 //    0.80 %); at 16 across graded within 0.3 % (measured 0.20 %), so the
 //    error falls by more than half per halving of the cells.
 #include <dieflow/mesh/geometry.h>
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 
@@ -72,7 +72,7 @@ namespace
   mesh(const std::string &source, const double q, const unsigned int across)
   {
     MeshParameters parameters;
-    parameters.source                  = source;
+    parameters.source                  = MeshParameters::source_named(source);
     parameters.die2d.grading_exponent  = q;
     parameters.die2d.cells_across      = across;
     parameters.die2d.cells_in_depth    = across / 2;

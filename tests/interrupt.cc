@@ -6,8 +6,8 @@
 // Signals are raised by the test itself at fixed points (before the run,
 // or when the log reaches the end of cycle 0), so the output is the same
 // on every run.
-#include <dieflow/interrupt.h>
-#include <dieflow/postprocess/atomic_file.h>
+#include <dieflow/base/interrupt.h>
+#include <dieflow/base/atomic_file.h>
 
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>

@@ -14,7 +14,7 @@
 //    dead band, may change state, so states are not compared);
 //  - Method = auto picks direct below 'Iterative from dofs', iterative
 //    from it on.
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

@@ -13,7 +13,7 @@
 //    fallback factorises the same augmented system);
 //  - a negative limit is refused with a message naming the entry (the
 //    program prints it and exits with 1).
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

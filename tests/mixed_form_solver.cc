@@ -57,7 +57,7 @@
 //    friction force, a thousandth of the ram's, 2e-5: at this penalty the
 //    direct solution itself carries round-off of about eps x 1e10);
 //  - Method = auto: direct below 'Iterative from dofs', iterative from it on.
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

@@ -59,7 +59,7 @@ namespace
   run(const double correction, std::string &log_text)
   {
     NonlinearSolver solver;
-    solver.method                    = "Newton";
+    solver.method                    = NonlinearSolver::Method::newton;
     solver.maximum_iterations        = 10;
     solver.maximum_line_search_steps = 20;
     solver.residual_tolerance        = 1e-8;

@@ -38,7 +38,7 @@ namespace
     material.parse_parameters(prm);
 
     MeshParameters mesh;
-    mesh.source = "box";
+    mesh.source = MeshParameters::Source::box;
     mesh.box.lower = {0, 0};
     mesh.box.upper = {3, 2};
     mesh.box.subdivisions = {3, 2};
@@ -66,17 +66,18 @@ namespace
 
     FlowAssembler<2> assembler(material, nullptr);
     assembler.set_coordinate_system(CoordinateSystem<2>(geometry));
-    assembler.set_penalty(100 * material.evaluate(1.).eta);
+    FlowTerms<2> terms;
+    terms.penalty = 100 * material.evaluate(1.).eta;
     assembler.set_tangent(FlowAssembler<2>::Tangent::standard);
-    assembler.assemble_system(dof_handler, v, none, Linearization::newton, J, rhs, raw);
+    assembler.assemble_system(dof_handler, v, terms, none, Linearization::newton, J, rhs, raw);
     J.vmult(Jw, w);
 
     const double e = 1e-5 * v.l2_norm() / w.l2_norm();
     Vector<double> shifted = v;
     shifted.add(e, w);
-    assembler.assemble_residual(dof_handler, shifted, none, r_plus, raw);
+    assembler.assemble_residual(dof_handler, shifted, terms, none, r_plus, raw);
     shifted.add(-2 * e, w);
-    assembler.assemble_residual(dof_handler, shifted, none, r_minus, raw);
+    assembler.assemble_residual(dof_handler, shifted, terms, none, r_minus, raw);
     // rhs = -R, so J w = -(r_plus - r_minus) / 2e.
     fd = r_minus;
     fd -= r_plus;
@@ -94,7 +95,7 @@ namespace
 
     assembler.set_tangent(FlowAssembler<2>::Tangent::primal_dual);
     assembler.update_dual(dof_handler, v, nullptr, 0);
-    assembler.assemble_system(dof_handler, v, none, Linearization::newton, J_pd, rhs, raw);
+    assembler.assemble_system(dof_handler, v, terms, none, Linearization::newton, J_pd, rhs, raw);
     J_pd.add(-1., J);
     report(name + ": primal-dual tangent with S = D/r is the consistent one",
            J_pd.linfty_norm() < 1e-12 * J.linfty_norm());

@@ -7,7 +7,7 @@
 //  - the primal-dual Newton and Picard (linear convergence, run to a
 //    relative update of 1e-11) reach the same ram force and exit flux to
 //    1e-7 (the Newton solution's own error is below 1e-10).
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

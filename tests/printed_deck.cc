@@ -1,7 +1,7 @@
 // The default deck that `dieflow --print-parameters` prints is a valid deck:
 // read back, it gives the same values, and every entry carries
 // documentation (a comment line above each 'set').
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include <fstream>
 #include <iostream>

@@ -32,7 +32,7 @@
 //    semismooth Newton method on the carried friction force (the mirror
 //    run of 0 broke a cycle of the states, that of 0.001 did not converge
 //    in 50 iterations; doc/three-dimensional.md).
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include "report.h"
 

@@ -2,7 +2,7 @@
 #ifndef dieflow_tests_report_h
 #define dieflow_tests_report_h
 
-#include <dieflow/run.h>
+#include <dieflow/problem/run.h>
 
 #include <cmath>
 #include <csignal>

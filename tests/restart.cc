@@ -12,7 +12,7 @@
 // summary.json. Then the same from the checkpoint a SIGINT leaves between
 // steps (raised at the end of step 0: the step-0 state), and four bad
 // restarts, each one message naming the entry.
-#include <dieflow/interrupt.h>
+#include <dieflow/base/interrupt.h>
 #include <dieflow/postprocess/summary.h>
 
 #include "report.h"

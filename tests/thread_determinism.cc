@@ -18,7 +18,7 @@
 //    built from the assembled matrix: a reordered sum would change it);
 //  - the round bar P1, degree 1, axisymmetric (the weighted integrals, the
 //    mean-dilatation penalty, a power law's Newton tangent).
-#include <dieflow/threads.h>
+#include <dieflow/base/threads.h>
 
 #include <deal.II/base/multithread_info.h>
 

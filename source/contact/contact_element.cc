@@ -1,3 +1,4 @@
+// The paper's contact element in velocity form: a node against a die facet, its gap rates, the friction laws, stick or slip, and its forces.
 #include <dieflow/contact/contact_element.h>
 
 #include <cmath>

@@ -1,3 +1,5 @@
+// A rigid die read on its own: its facets, the search for a node's master facet, and the wall nodes' directions taken from it.
+#include <dieflow/base/serialization.h>
 #include <dieflow/contact/die_surface.h>
 #include <dieflow/mesh/geometry.h>
 
@@ -129,6 +131,77 @@ namespace dieflow
         read_facets.push_back(f);
     require(!read_facets.empty(), entry, "'" + file_name + "' contains no facets");
     set_facets(read_facets);
+  }
+
+
+
+  namespace
+  {
+    /// Saves or loads @p facets (their vertices and normals) with @p ar.
+    template <class Archive, typename Facet>
+    void
+    serialize_facets(Archive &ar, std::vector<Facet> &facets)
+    {
+      serialize_each(ar, facets, [&](Facet &facet) {
+        for (auto &vertex : facet.vertices)
+          ar &vertex;
+        ar &facet.normal;
+      });
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  DieSurface<dim>::save(OutputArchive &ar) const
+  {
+    std::vector<Facet> kept = facets;
+    serialize_facets(ar, kept);
+  }
+
+
+
+  template <int dim>
+  void
+  DieSurface<dim>::load(InputArchive &ar)
+  {
+    std::vector<Facet> read_facets;
+    serialize_facets(ar, read_facets);
+    set_facets(read_facets);
+  }
+
+
+
+  template <int dim>
+  void
+  save_dies(OutputArchive &ar, const std::map<BoundaryId, DieSurface<dim>> &dies)
+  {
+    std::size_t n = dies.size();
+    ar << n;
+    for (const auto &[id, surface] : dies)
+      {
+        BoundaryId copy = id;
+        ar << copy;
+        surface.save(ar);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  load_dies(InputArchive &ar, std::map<BoundaryId, DieSurface<dim>> &dies)
+  {
+    dies.clear();
+    std::size_t n = 0;
+    ar >> n;
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        BoundaryId id = 0;
+        ar >> id;
+        dies[id].load(ar);
+      }
   }
 
 
@@ -337,4 +410,12 @@ namespace dieflow
   attach_die_surfaces<2>(const std::map<BoundaryId, DieSurface<2>> &, const double, const bool, std::vector<WallNode<2>> &);
   template void
   attach_die_surfaces<3>(const std::map<BoundaryId, DieSurface<3>> &, const double, const bool, std::vector<WallNode<3>> &);
+  template void
+  save_dies(OutputArchive &, const std::map<BoundaryId, DieSurface<2>> &);
+  template void
+  save_dies(OutputArchive &, const std::map<BoundaryId, DieSurface<3>> &);
+  template void
+  load_dies(InputArchive &, std::map<BoundaryId, DieSurface<2>> &);
+  template void
+  load_dies(InputArchive &, std::map<BoundaryId, DieSurface<3>> &);
 } // namespace dieflow

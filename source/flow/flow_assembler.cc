@@ -1,3 +1,4 @@
+// The flow's cell terms: the residual and the Jacobian (standard or primal-dual Newton) of the penalised velocity problem, with its loads.
 #include <dieflow/flow/flow_assembler.h>
 #include <dieflow/flow/pressure_projection.h>
 
@@ -216,15 +217,19 @@ namespace dieflow
   void
   FlowAssembler<dim>::assemble(const DoFHandler<dim> &          dof_handler,
                                const Vector<double> &           velocity,
+                               const FlowTerms<dim> &           terms,
                                const AffineConstraints<double> &update_constraints,
                                const Linearization              linearization,
                                SparseMatrix<double> *           matrix,
                                Vector<double> &                 rhs,
                                Vector<double> &                 raw_residual,
-                               const RowTransforms *            transforms,
-                               MixedPenalty<dim> *              mixed) const
+                               const RowTransforms *            transforms) const
   {
-    Assert(penalty > 0, dealii::ExcMessage("The penalty has not been set."));
+    Assert(terms.penalty > 0, dealii::ExcMessage("The penalty has not been set."));
+    MixedPenalty<dim> *const    mixed          = (terms.mixed != nullptr && matrix != nullptr) ? terms.mixed : nullptr;
+    const Vector<double> *const multiplier     = terms.multiplier;
+    const Vector<double> *const cell_penalty   = terms.cell_penalty;
+    const Vector<double> *const cell_hardening = terms.hardening;
     const auto &       fe            = dof_handler.get_fe();
     const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
     const bool         newton        = (linearization == Linearization::newton);
@@ -233,10 +238,8 @@ namespace dieflow
     Assert(mixed == nullptr || fe.degree >= 2, dealii::ExcMessage("The mixed form needs the stable pair (degree 2)."));
     if (matrix != nullptr)
       *matrix = 0;
-    if (mixed != nullptr && matrix != nullptr)
+    if (mixed != nullptr)
       mixed->clear_values();
-    else
-      mixed = nullptr;
     dealii::AffineConstraints<double> no_constraints;
     no_constraints.close();
     rhs.reinit(dof_handler.n_dofs());
@@ -323,7 +326,7 @@ namespace dieflow
                 }
             }
 
-      const double lambda = (cell_penalty != nullptr) ? (*cell_penalty)[cell->active_cell_index()] : penalty;
+      const double lambda = (cell_penalty != nullptr) ? (*cell_penalty)[cell->active_cell_index()] : terms.penalty;
       // Axisymmetric and 3D Q1: the cell mean of div v (PressureProjection).
       if (fe.degree == 1 && coordinates.centre_rule_is_mean())
         add_centre_penalty<dim>(cell, lambda, multiplier, scratch, copy, matrix != nullptr);
@@ -387,15 +390,15 @@ namespace dieflow
   void
   FlowAssembler<dim>::assemble_system(const DoFHandler<dim> &          dof_handler,
                                       const Vector<double> &           velocity,
+                                      const FlowTerms<dim> &           terms,
                                       const AffineConstraints<double> &update_constraints,
                                       const Linearization              linearization,
                                       SparseMatrix<double> &           matrix,
                                       Vector<double> &                 rhs,
                                       Vector<double> &                 raw_residual,
-                                      const RowTransforms *            transforms,
-                                      MixedPenalty<dim> *              mixed) const
+                                      const RowTransforms *            transforms) const
   {
-    assemble(dof_handler, velocity, update_constraints, linearization, &matrix, rhs, raw_residual, transforms, mixed);
+    assemble(dof_handler, velocity, terms, update_constraints, linearization, &matrix, rhs, raw_residual, transforms);
   }
 
 
@@ -404,12 +407,13 @@ namespace dieflow
   void
   FlowAssembler<dim>::assemble_residual(const DoFHandler<dim> &          dof_handler,
                                         const Vector<double> &           velocity,
+                                        const FlowTerms<dim> &           terms,
                                         const AffineConstraints<double> &update_constraints,
                                         Vector<double> &                 rhs,
                                         Vector<double> &                 raw_residual,
                                         const RowTransforms *            transforms) const
   {
-    assemble(dof_handler, velocity, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms, nullptr);
+    assemble(dof_handler, velocity, terms, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms);
   }
 
 

@@ -1,3 +1,4 @@
+// The material: the viscosity laws (Newtonian, Norton-Hoff, Sellars-Tegart), their regularisation and bounds, strain hardening, the penalty factor.
 #include <dieflow/flow/material.h>
 
 #include <cmath>

@@ -1,6 +1,10 @@
+// The penalty's discontinuous pressure space per cell, the projection P of div v onto it, and the divergence and pressure per cell.
 #include <dieflow/flow/pressure_projection.h>
 
+#include <deal.II/fe/fe_values.h>
+
 #include <cmath>
+#include <vector>
 
 namespace dieflow
 {
@@ -165,6 +169,91 @@ namespace dieflow
     return result;
   }
 
+  template <int dim>
+  double
+  divergence_ratio(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
+  {
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    const auto &                             fe = dof_handler.get_fe();
+    dealii::FEValues<dim> gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points);
+    PressureProjection<dim>     projection(fe, coordinates);
+    Vector<double>              coefficients(projection.n_modes());
+    std::vector<Tensor<2, dim>> grad(gauss.n_quadrature_points);
+    double                      div_squared = 0, grad_squared = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        // What the penalty controls: ||P div v||^2 on the cell.
+        projection.project(cell, velocity, coefficients);
+        div_squared += projection.square_integral(coefficients.begin());
+        gauss.reinit(cell);
+        gauss[velocities].get_function_gradients(velocity, grad);
+        for (const unsigned int q : gauss.quadrature_point_indices())
+          grad_squared += grad[q].norm_square() * gauss.JxW(q) * coordinates.weight(gauss.quadrature_point(q));
+      }
+    return grad_squared > 0 ? std::sqrt(div_squared / grad_squared) : 0.;
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
+  {
+    if (dof_handler.get_fe().degree > 1 || !coordinates.centre_rule_is_mean())
+      return PressureProjection<dim>::project_all(dof_handler, velocity, coordinates);
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients);
+    std::vector<double>   div(1);
+    Vector<double>        divergence(dof_handler.get_triangulation().n_active_cells());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        centre.reinit(cell);
+        centre[velocities].get_function_divergences(velocity, div);
+        divergence[cell->active_cell_index()] = div[0];
+      }
+    return divergence;
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  cell_pressure(const CoordinateSystem<dim> &coordinates,
+                const DoFHandler<dim> &dof_handler,
+                const Vector<double> & velocity,
+                const double           penalty,
+                const Vector<double> * multiplier,
+                const Vector<double> * cell_penalty)
+  {
+    Vector<double>     pressure = cell_divergence(coordinates, dof_handler, velocity);
+    const unsigned int n_modes  = pressure.size() / dof_handler.get_triangulation().n_active_cells();
+    if (cell_penalty != nullptr)
+      for (unsigned int i = 0; i < pressure.size(); ++i)
+        pressure[i] *= (*cell_penalty)[i / n_modes];
+    else
+      pressure *= penalty;
+    pressure *= -1.;
+    if (multiplier != nullptr)
+      pressure -= *multiplier;
+    return pressure;
+  }
+
+
+
+  template double
+  divergence_ratio<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
+  template Vector<double>
+  cell_pressure<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const double, const Vector<double> *,
+                   const Vector<double> *);
+  template Vector<double>
+  cell_divergence<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
+  template double
+  divergence_ratio<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
+  template Vector<double>
+  cell_pressure<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const double, const Vector<double> *,
+                   const Vector<double> *);
+  template Vector<double>
+  cell_divergence<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
   template class PressureProjection<2>;
   template class PressureProjection<3>;
 } // namespace dieflow

@@ -1,3 +1,5 @@
+// Contact in a run in time by the gap in positions: nodes put back onto the dies, faces that come onto and leave them, gaps closed within a step.
+#include <dieflow/base/serialization.h>
 #include <dieflow/incremental/contact_gaps.h>
 #include <dieflow/incremental/time_stepping.h>
 
@@ -285,30 +287,21 @@ namespace dieflow
 
 
   template <int dim>
-  typename ContactGaps<dim>::State
-  ContactGaps<dim>::state() const
+  void
+  ContactGaps<dim>::save(OutputArchive &ar) const
   {
-    State state;
-    for (const auto &[id, surface] : dies)
-      state.dies[id] = surface.all_facets();
-    state.id_before = id_before;
-    state.free_ids  = free_ids;
-    state.tolerance = tolerance;
-    return state;
+    save_dies(ar, dies);
+    ar << id_before << free_ids << tolerance;
   }
 
 
 
   template <int dim>
   void
-  ContactGaps<dim>::restore(const State &state)
+  ContactGaps<dim>::load(InputArchive &ar)
   {
-    dies.clear();
-    for (const auto &[id, facets] : state.dies)
-      dies[id].set_facets(facets);
-    id_before = state.id_before;
-    free_ids  = state.free_ids;
-    tolerance = state.tolerance;
+    load_dies(ar, dies);
+    ar >> id_before >> free_ids >> tolerance;
     shifts.clear();
   }
 

@@ -1,3 +1,4 @@
+// Fields carried from a moved mesh to a new mesh of the same domain: nodal fields at the new nodes, cell fields at the new cells' centres.
 #include <dieflow/incremental/mesh_transfer.h>
 
 #include <deal.II/fe/fe.h>

@@ -1,3 +1,4 @@
+// Meshing a run's domain anew: when (the deck's remeshing entries), and how (Gmsh's quadrilaterals inside the same boundary).
 #include <dieflow/incremental/remeshing.h>
 
 #include <dieflow/incremental/time_stepping.h>

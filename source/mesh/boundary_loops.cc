@@ -1,3 +1,4 @@
+// The closed loops of a 2D mesh's boundary edges, each counter-clockwise about the domain, read from the cells' topology.
 #include <dieflow/mesh/boundary_loops.h>
 
 #include <map>

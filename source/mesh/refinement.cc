@@ -1,3 +1,4 @@
+// The deck's Refinement subsection, the error indicators per cell (Kelly's, the die criterion, both), and the marking of cells.
 #include <dieflow/mesh/refinement.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -110,9 +111,13 @@ namespace dieflow
   {
     prm.enter_subsection("Refinement");
     cycles           = prm.get_integer("Cycles");
-    strategy         = prm.get("Strategy");
-    indicator        = prm.get("Indicator");
-    marking          = prm.get("Marking");
+    strategy         = prm.get("Strategy") == "adaptive" ? Strategy::adaptive : Strategy::global;
+    const std::string indicator_name = prm.get("Indicator");
+    indicator        = indicator_name == "kelly"         ? Indicator::kelly :
+                       indicator_name == "die"           ? Indicator::die :
+                       indicator_name == "dual weighted" ? Indicator::dual_weighted :
+                                                           Indicator::combined;
+    marking          = prm.get("Marking") == "fixed number" ? Marking::fixed_number : Marking::fixed_fraction;
     refine_fraction  = prm.get_double("Refine fraction");
     coarsen_fraction = prm.get_double("Coarsen fraction");
     die_band         = prm.get_double("Die band");
@@ -207,14 +212,14 @@ namespace dieflow
     const auto &          triangulation = dof_handler.get_triangulation();
     dealii::Vector<float> indicator(triangulation.n_active_cells());
     const auto            chi = die_criterion(parameters, triangulation, die);
-    if (parameters.indicator == "die")
+    if (parameters.indicator == RefinementParameters::Indicator::die)
       {
         for (const auto &cell : triangulation.active_cell_iterators())
           indicator[cell->active_cell_index()] = chi[cell->active_cell_index()] * cell->measure();
         return indicator;
       }
     indicator = kelly_indicators(dof_handler, velocity);
-    if (parameters.indicator == "combined")
+    if (parameters.indicator == RefinementParameters::Indicator::combined)
       for (unsigned int i = 0; i < indicator.size(); ++i)
         indicator[i] *= 1 + parameters.die_weight * chi[i];
     return indicator;
@@ -230,7 +235,7 @@ namespace dieflow
   {
     const unsigned int max_cells =
       parameters.maximum_cells > 0 ? parameters.maximum_cells : std::numeric_limits<unsigned int>::max();
-    if (parameters.marking == "fixed fraction")
+    if (parameters.marking == RefinementParameters::Marking::fixed_fraction)
       dealii::GridRefinement::refine_and_coarsen_fixed_fraction(
         triangulation, indicators, parameters.refine_fraction, parameters.coarsen_fraction, max_cells);
     else

@@ -1,3 +1,4 @@
+// The corners of the walls, where the velocity is singular, and the geometric grading of the mesh towards them.
 #include <dieflow/mesh/singular_points.h>
 #include <dieflow/mesh/wall_nodes.h>
 

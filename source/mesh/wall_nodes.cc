@@ -1,3 +1,4 @@
+// The nodes on the walls: their dofs, facet normals and weights, the constraints v.n = g there, and a reaction's components along the normals.
 #include <dieflow/mesh/wall_nodes.h>
 
 #include <deal.II/base/quadrature_lib.h>

@@ -1,7 +1,9 @@
+// The goal-oriented estimate of a force's error: the force's dual problem, its dual-weighted residual, and the refinement indicators it gives.
 #include <dieflow/flow/pressure_projection.h>
 #include <dieflow/mesh/refinement.h>
 #include <dieflow/mesh/wall_nodes.h>
 #include <dieflow/postprocess/goal_estimate.h>
+#include <dieflow/system/system_assembler.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -91,6 +93,7 @@ namespace dieflow
              const dealii::SparsityPattern &                pattern,
              const Vector<double> &                         velocity,
              const FlowAssembler<dim> &                     assembler,
+             const FlowTerms<dim> &                         terms,
              const ContactSet<dim> &                        contact,
              const Vector<double> &                         psi,
              const std::function<void(Vector<double> &)> &  solve_transposed)
@@ -102,7 +105,7 @@ namespace dieflow
     {
       dealii::SparseMatrix<double> flow_jacobian(pattern);
       Vector<double>               rhs, raw;
-      assembler.assemble_system(dof_handler, velocity, hanging_node_constraints, Linearization::newton, flow_jacobian,
+      assembler.assemble_system(dof_handler, velocity, terms, hanging_node_constraints, Linearization::newton, flow_jacobian,
                                 rhs, raw);
       Vector<double> psi_masters = psi;
       hanging_node_constraints.set_zero(psi_masters);
@@ -161,6 +164,7 @@ namespace dieflow
                             const AffineConstraints<double> &hanging_node_constraints,
                             const Vector<double> &           velocity,
                             const FlowAssembler<dim> &       assembler,
+                            const FlowTerms<dim> &           terms,
                             const Material &                 material,
                             const ContactSet<dim> &          contact,
                             const BoundaryConditions<dim> &  boundary_conditions,
@@ -184,13 +188,10 @@ namespace dieflow
     Assert(!assembler.coordinate_system().axisymmetric(),
            dealii::ExcMessage("The dual problem is assembled in plane strain."));
     const auto dual_wall_nodes = collect_wall_nodes(assembler.coordinate_system(), dual_dofs, walls, dual_hanging, boundary_conditions.corner_angle);
-    ContactSet<dim> dual_contact = contact;
+    AffineConstraints<double> prescribed;
     if (!contact.empty())
-      {
-        AffineConstraints<double> prescribed;
-        boundary_conditions.make_prescribed_constraints(dual_dofs, prescribed);
-        dual_contact.setup(dual_wall_nodes, prescribed, true);
-      }
+      boundary_conditions.make_prescribed_constraints(dual_dofs, prescribed);
+    const ContactSet<dim> dual_contact = contact.frozen_on(dual_wall_nodes, prescribed);
     AffineConstraints<double> constraints;
     boundary_conditions.make_constraints(dual_dofs, dual_hanging, dual_wall_nodes, true, constraints);
     dual_contact.add_constraints(constraints, true);
@@ -210,12 +211,12 @@ namespace dieflow
     dealii::FETools::interpolate(dof_handler, force_direction(dof_handler, hanging_node_constraints, part_id), dual_dofs,
                                  dual_hanging, psi);
     dealii::SparseMatrix<double> jacobian(pattern);
-    Vector<double>               minus_residual, raw_residual;
-    assemble_with_contact(assembler, dual_contact, dual_dofs, v, constraints, Linearization::newton, &jacobian,
-                          minus_residual, raw_residual);
+    Vector<double>               minus_residual;
+    SystemAssembler<dim>(dual_dofs, constraints, assembler, dual_contact)
+      .assemble(v, terms, Linearization::newton, &jacobian, minus_residual);
     dealii::SparseDirectUMFPACK solver;
     solver.initialize(jacobian);
-    const Vector<double> z = force_dual(dual_dofs, dual_hanging, constraints, pattern, v, assembler, dual_contact, psi,
+    const Vector<double> z = force_dual(dual_dofs, dual_hanging, constraints, pattern, v, assembler, terms, dual_contact, psi,
                                         [&solver](Vector<double> &b) { solver.solve(b, true); });
 
     // I_h z must be a conforming function of the solution's space (its
@@ -228,7 +229,7 @@ namespace dieflow
 
     GoalEstimate result;
     result.dual_dofs = dual_dofs.n_dofs();
-    const double                             lambda = assembler.get_penalty();
+    const double                             lambda = terms.penalty;
     const dealii::QGauss<dim>                quadrature(fe.degree + 3);
     dealii::FEValues<dim>                    values(fe, quadrature, dealii::update_gradients | dealii::update_quadrature_points | dealii::update_JxW_values);
     dealii::FEValues<dim>                    dual_values(dual_fe, quadrature, dealii::update_values | dealii::update_gradients | dealii::update_quadrature_points | dealii::update_JxW_values);
@@ -276,7 +277,7 @@ namespace dieflow
 
   template Vector<double>
   force_dual<2>(const DoFHandler<2> &, const AffineConstraints<double> &, const AffineConstraints<double> &,
-                const dealii::SparsityPattern &, const Vector<double> &, const FlowAssembler<2> &, const ContactSet<2> &,
+                const dealii::SparsityPattern &, const Vector<double> &, const FlowAssembler<2> &, const FlowTerms<2> &, const ContactSet<2> &,
                 const Vector<double> &, const std::function<void(Vector<double> &)> &);
   template Vector<double>
   force_direction<2>(const DoFHandler<2> &, const AffineConstraints<double> &, const BoundaryId);
@@ -284,11 +285,11 @@ namespace dieflow
   goal_indicators<2>(const DoFHandler<2> &, const Vector<double> &, const Vector<double> &);
   template GoalEstimate
   dual_weighted_force_error<2>(const DoFHandler<2> &, const AffineConstraints<double> &, const Vector<double> &,
-                               const FlowAssembler<2> &, const Material &, const ContactSet<2> &,
+                               const FlowAssembler<2> &, const FlowTerms<2> &, const Material &, const ContactSet<2> &,
                                const BoundaryConditions<2> &, const std::set<BoundaryId> &, const BoundaryId);
   template Vector<double>
   force_dual<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const AffineConstraints<double> &,
-                const dealii::SparsityPattern &, const Vector<double> &, const FlowAssembler<3> &, const ContactSet<3> &,
+                const dealii::SparsityPattern &, const Vector<double> &, const FlowAssembler<3> &, const FlowTerms<3> &, const ContactSet<3> &,
                 const Vector<double> &, const std::function<void(Vector<double> &)> &);
   template Vector<double>
   force_direction<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const BoundaryId);
@@ -296,6 +297,6 @@ namespace dieflow
   goal_indicators<3>(const DoFHandler<3> &, const Vector<double> &, const Vector<double> &);
   template GoalEstimate
   dual_weighted_force_error<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const Vector<double> &,
-                               const FlowAssembler<3> &, const Material &, const ContactSet<3> &,
+                               const FlowAssembler<3> &, const FlowTerms<3> &, const Material &, const ContactSet<3> &,
                                const BoundaryConditions<3> &, const std::set<BoundaryId> &, const BoundaryId);
 } // namespace dieflow

@@ -1,3 +1,4 @@
+// How much mass the penalty lets the metal lose: the two measures, the guard's verdict on them, and what to change when it fails.
 #include <dieflow/postprocess/mass_balance.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -52,11 +53,31 @@ namespace dieflow
 
 
   std::string
+  status_name(const MassBalanceStatus status)
+  {
+    switch (status)
+      {
+        case MassBalanceStatus::off:
+          return "off";
+        case MassBalanceStatus::ok:
+          return "ok";
+        case MassBalanceStatus::warning:
+          return "warning";
+        case MassBalanceStatus::failed:
+          return "failed";
+        default:
+          return "";
+      }
+  }
+
+
+
+  MassBalanceStatus
   mass_balance_status(const MassBalance &balance, const double tolerance)
   {
     if (balance.worst() > tolerance)
-      return "failed";
-    return balance.worst() > 0.1 * tolerance ? "warning" : "ok";
+      return MassBalanceStatus::failed;
+    return balance.worst() > 0.1 * tolerance ? MassBalanceStatus::warning : MassBalanceStatus::ok;
   }
 
 

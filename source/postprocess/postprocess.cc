@@ -1,5 +1,6 @@
+// What a solution gives: the boundary parts' fluxes, areas and forces, errors against an exact velocity, and the fields written to files.
 #include <dieflow/flow/pressure_projection.h>
-#include <dieflow/postprocess/atomic_file.h>
+#include <dieflow/base/atomic_file.h>
 #include <dieflow/postprocess/postprocess.h>
 #include <dieflow/postprocess/vertex_stress.h>
 
@@ -522,32 +523,6 @@ namespace dieflow
 
 
   template <int dim>
-  double
-  divergence_ratio(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
-  {
-    const dealii::FEValuesExtractors::Vector velocities(0);
-    const auto &                             fe = dof_handler.get_fe();
-    dealii::FEValues<dim> gauss(fe, dealii::QGauss<dim>(fe.degree + 1), dealii::update_gradients | dealii::update_JxW_values | dealii::update_quadrature_points);
-    PressureProjection<dim>     projection(fe, coordinates);
-    Vector<double>              coefficients(projection.n_modes());
-    std::vector<Tensor<2, dim>> grad(gauss.n_quadrature_points);
-    double                      div_squared = 0, grad_squared = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        // What the penalty controls: ||P div v||^2 on the cell.
-        projection.project(cell, velocity, coefficients);
-        div_squared += projection.square_integral(coefficients.begin());
-        gauss.reinit(cell);
-        gauss[velocities].get_function_gradients(velocity, grad);
-        for (const unsigned int q : gauss.quadrature_point_indices())
-          grad_squared += grad[q].norm_square() * gauss.JxW(q) * coordinates.weight(gauss.quadrature_point(q));
-      }
-    return grad_squared > 0 ? std::sqrt(div_squared / grad_squared) : 0.;
-  }
-
-
-
-  template <int dim>
   std::pair<double, double>
   velocity_errors(const DoFHandler<dim> &       dof_handler,
                   const Vector<double> &        velocity,
@@ -564,51 +539,6 @@ namespace dieflow
     const double h1 =
       dealii::VectorTools::compute_global_error(triangulation, per_cell, dealii::VectorTools::H1_seminorm);
     return {l2, h1};
-  }
-
-
-
-  template <int dim>
-  Vector<double>
-  cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
-  {
-    if (dof_handler.get_fe().degree > 1 || !coordinates.centre_rule_is_mean())
-      return PressureProjection<dim>::project_all(dof_handler, velocity, coordinates);
-    const dealii::FEValuesExtractors::Vector velocities(0);
-    dealii::FEValues<dim> centre(dof_handler.get_fe(), dealii::QGauss<dim>(1), dealii::update_gradients);
-    std::vector<double>   div(1);
-    Vector<double>        divergence(dof_handler.get_triangulation().n_active_cells());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        centre.reinit(cell);
-        centre[velocities].get_function_divergences(velocity, div);
-        divergence[cell->active_cell_index()] = div[0];
-      }
-    return divergence;
-  }
-
-
-
-  template <int dim>
-  Vector<double>
-  cell_pressure(const CoordinateSystem<dim> &coordinates,
-                const DoFHandler<dim> &dof_handler,
-                const Vector<double> & velocity,
-                const double           penalty,
-                const Vector<double> * multiplier,
-                const Vector<double> * cell_penalty)
-  {
-    Vector<double>     pressure = cell_divergence(coordinates, dof_handler, velocity);
-    const unsigned int n_modes  = pressure.size() / dof_handler.get_triangulation().n_active_cells();
-    if (cell_penalty != nullptr)
-      for (unsigned int i = 0; i < pressure.size(); ++i)
-        pressure[i] *= (*cell_penalty)[i / n_modes];
-    else
-      pressure *= penalty;
-    pressure *= -1.;
-    if (multiplier != nullptr)
-      pressure -= *multiplier;
-    return pressure;
   }
 
 
@@ -754,15 +684,8 @@ namespace dieflow
   template std::map<BoundaryId, std::vector<double>>
   boundary_forces<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const BoundaryConditions<2> &, const std::vector<WallNode<2>> &,
                      const std::set<BoundaryId> &, std::vector<WallShare<2>> *);
-  template double
-  divergence_ratio<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
   template std::pair<double, double>
   velocity_errors<2>(const DoFHandler<2> &, const Vector<double> &, const dealii::Function<2> &);
-  template Vector<double>
-  cell_pressure<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const double, const Vector<double> *,
-                   const Vector<double> *);
-  template Vector<double>
-  cell_divergence<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);
   template void
   write_fields<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &,
                   const std::map<std::string, Vector<double>> &, const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,
@@ -774,15 +697,8 @@ namespace dieflow
   template std::map<BoundaryId, std::vector<double>>
   boundary_forces<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const BoundaryConditions<3> &, const std::vector<WallNode<3>> &,
                      const std::set<BoundaryId> &, std::vector<WallShare<3>> *);
-  template double
-  divergence_ratio<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
   template std::pair<double, double>
   velocity_errors<3>(const DoFHandler<3> &, const Vector<double> &, const dealii::Function<3> &);
-  template Vector<double>
-  cell_pressure<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const double, const Vector<double> *,
-                   const Vector<double> *);
-  template Vector<double>
-  cell_divergence<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &);
   template void
   write_fields<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const Material &, const Vector<double> &,
                   const std::map<std::string, Vector<double>> &, const std::map<std::string, Vector<double>> &, const std::string &, const unsigned int,

@@ -1,3 +1,4 @@
+// The mesh study of a run: a row per cycle, and the Richardson extrapolation and error estimates of the quantities of interest.
 #include <dieflow/postprocess/study.h>
 
 #include <deal.II/base/convergence_table.h>

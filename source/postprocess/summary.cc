@@ -1,8 +1,12 @@
-#include <dieflow/postprocess/atomic_file.h>
+// The run's summary: the result lines on screen and summary.json.
+#include <dieflow/base/atomic_file.h>
 #include <dieflow/postprocess/summary.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
-#include <fstream>
+#include <cstdint>
+#include <cstdlib>
 #include <iomanip>
 #include <sstream>
 
@@ -10,53 +14,60 @@ namespace dieflow
 {
   namespace
   {
-    std::string
+    // Keys in the order they are set: summary.json's order is part of its contract.
+    using Json = nlohmann::ordered_json;
+
+    /// @p x to the 10 significant digits summary.json has always given; null if not finite.
+    /// A whole number below 1e10, which those digits print without a point, stays an integer.
+    Json
     number(const double x)
     {
       if (!std::isfinite(x))
-        return "null";
+        return nullptr;
       std::ostringstream s;
       s << std::setprecision(10) << x;
-      return s.str();
+      const double rounded = std::strtod(s.str().c_str(), nullptr);
+      if (std::abs(rounded) < 1e10 && rounded == std::trunc(rounded))
+        return static_cast<std::int64_t>(rounded);
+      return rounded;
     }
 
-    std::string
+    Json
     optional_number(const std::optional<double> &x)
     {
-      return x ? number(*x) : "null";
+      return x ? number(*x) : nullptr;
     }
 
-    template <typename Map, typename Format>
-    std::string
-    id_map(const Map &map, const Format &format)
+    Json
+    numbers(const std::vector<double> &values)
     {
-      std::string text = "{";
-      for (auto it = map.begin(); it != map.end(); ++it)
-        text += (it == map.begin() ? "\"" : ", \"") + std::to_string(it->first) + "\": " +
-                format(it->second);
-      return text + "}";
-    }
-
-    std::string
-    vector(const std::vector<double> &values)
-    {
-      std::string text = "[";
-      for (unsigned int i = 0; i < values.size(); ++i)
-        text += (i == 0 ? "" : ", ") + number(values[i]);
-      return text + "]";
+      Json array = Json::array();
+      for (const double x : values)
+        array.push_back(number(x));
+      return array;
     }
 
     std::string
-    string(const std::string &s)
+    key(const std::string &name)
     {
-      std::string escaped = "\"";
-      for (const char c : s)
-        {
-          if (c == '"' || c == '\\')
-            escaped += '\\';
-          escaped += c;
-        }
-      return escaped + "\"";
+      return name;
+    }
+
+    std::string
+    key(const BoundaryId id)
+    {
+      return std::to_string(id);
+    }
+
+    /// An object of the (key, value) pairs of @p pairs (a map, or a vector of pairs), in their order.
+    template <typename Pairs, typename Format>
+    Json
+    object(const Pairs &pairs, const Format &format)
+    {
+      Json result = Json::object();
+      for (const auto &[k, value] : pairs)
+        result[key(k)] = format(value);
+      return result;
     }
   } // namespace
 
@@ -159,63 +170,44 @@ namespace dieflow
   void
   write_summary_json(const RunSummary &summary, const std::string &file_name)
   {
-    AtomicFile    file(file_name);
-    std::ostream &out = file.stream();
-    out << "{\n"
-        << "  \"converged\": " << (summary.converged ? "true" : "false") << ",\n"
-        << "  \"interrupted\": " << (summary.interrupted ? "true" : "false") << ",\n"
-        << "  \"wall_time\": " << number(summary.wall_time) << ",\n"
-        << "  \"velocity_degree\": " << summary.velocity_degree << ",\n"
-        << "  \"geometry\": \"" << summary.geometry << "\",\n"
-        << "  \"problem\": \"" << summary.problem << "\",\n";
+    Json json = {{"converged", summary.converged}, {"interrupted", summary.interrupted},
+                 {"wall_time", number(summary.wall_time)}, {"velocity_degree", summary.velocity_degree},
+                 {"geometry", summary.geometry}, {"problem", summary.problem}};
     if (summary.problem == "incremental")
       {
-        const StepTotals totals = step_totals(summary);
-        out << "  \"incremental\": {\"steps\": " << totals.steps
-            << ", \"largest_penetration\": " << number(totals.largest_penetration)
-            << ", \"volume_change\": " << number(totals.volume_change)
-            << ", \"smallest_scaled_jacobian\": " << number(totals.smallest_scaled_jacobian)
-            << ", \"faces_entered\": " << totals.faces_entered << ", \"faces_left\": " << totals.faces_left
-            << ", \"remeshings\": " << totals.remeshings
-            << ", \"largest_remesh_volume_change\": " << number(totals.largest_remesh_volume_change);
+        const StepTotals t = step_totals(summary);
+        Json incremental = {
+          {"steps", t.steps}, {"largest_penetration", number(t.largest_penetration)},
+          {"volume_change", number(t.volume_change)}, {"smallest_scaled_jacobian", number(t.smallest_scaled_jacobian)},
+          {"faces_entered", t.faces_entered}, {"faces_left", t.faces_left}, {"remeshings", t.remeshings},
+          {"largest_remesh_volume_change", number(t.largest_remesh_volume_change)}};
         if (!summary.restarted_from.empty())
-          out << ", \"restarted_from\": {\"file\": " << string(summary.restarted_from)
-              << ", \"step\": " << summary.restart_step << "}";
+          incremental["restarted_from"] = {{"file", summary.restarted_from}, {"step", summary.restart_step}};
         if (!summary.checkpoint_file.empty())
-          out << ", \"checkpoint\": {\"file\": " << string(summary.checkpoint_file)
-              << ", \"step\": " << summary.checkpoint_step << "}";
-        out << "},\n";
+          incremental["checkpoint"] = {{"file", summary.checkpoint_file}, {"step", summary.checkpoint_step}};
+        json["incremental"] = std::move(incremental);
       }
-    out << "  \"peak_memory_mb\": " << number(summary.peak_memory_mb) << ",\n"
-        << "  \"threads\": " << summary.threads << ",\n"
-        << "  \"stage_wall_time\": {";
-    for (auto it = summary.stage_wall_time.begin(); it != summary.stage_wall_time.end(); ++it)
-      out << (it == summary.stage_wall_time.begin() ? "" : ", ") << string(it->first) << ": "
-          << number(it->second);
-    out << "},\n"
-        << "  \"extrapolated\": {";
-    for (unsigned int i = 0; i < summary.extrapolated.size(); ++i)
-      {
-        const auto &e = summary.extrapolated[i];
-        out << (i == 0 ? "" : ", ") << string(e.name) << ": {\"value\": " << number(e.extrapolated)
-            << ", \"error\": " << number(e.extrapolation_error) << ", \"order\": " << number(e.order)
-            << ", \"last\": " << number(e.last) << ", \"estimated_error\": " << number(e.estimate) << "}";
-      }
-    out << "},\n";
+    json["peak_memory_mb"]  = number(summary.peak_memory_mb);
+    json["threads"]         = summary.threads;
+    json["stage_wall_time"] = object(summary.stage_wall_time, number);
+    // References into json only while no key is added to it (ordered_json keeps its keys in a vector).
+    Json &extrapolated = json["extrapolated"] = Json::object();
+    for (const auto &e : summary.extrapolated)
+      extrapolated[e.name] = {{"value", number(e.extrapolated)}, {"error", number(e.extrapolation_error)},
+                              {"order", number(e.order)},        {"last", number(e.last)},
+                              {"estimated_error", number(e.estimate)}};
     if (summary.target_reached)
-      out << "  \"target_reached\": " << (*summary.target_reached ? "true" : "false") << ",\n"
-          << "  \"target\": {\"quantity\": " << string(summary.target_quantity)
-          << ", \"relative_error\": " << number(summary.target_error) << "},\n";
-    if (!summary.failure.empty())
-      out << "  \"failure\": " << string(summary.failure) << ",\n";
-    out << "  \"warnings\": [";
-    for (unsigned int i = 0; i < summary.warnings.size(); ++i)
-      out << (i == 0 ? "" : ", ") << string(summary.warnings[i]);
-    out << "],\n";
-    out << "  \"cycles\": [";
-    for (unsigned int c = 0; c < summary.cycles.size(); ++c)
       {
-        const CycleSummary &s = summary.cycles[c];
+        json["target_reached"] = *summary.target_reached;
+        json["target"] = {{"quantity", summary.target_quantity}, {"relative_error", number(summary.target_error)}};
+      }
+    if (!summary.failure.empty())
+      json["failure"] = summary.failure;
+    json["warnings"] = summary.warnings;
+
+    Json &cycles = json["cycles"] = Json::array();
+    for (const CycleSummary &s : summary.cycles)
+      {
         std::vector<double> residuals, normal_changes, tangential_changes;
         for (const auto &record : s.history)
           {
@@ -223,98 +215,70 @@ namespace dieflow
             normal_changes.push_back(record.state_changes.normal);
             tangential_changes.push_back(record.state_changes.tangential);
           }
-        out << (c == 0 ? "\n" : ",\n") << "    {\n"
-            << "      \"cycle\": " << s.cycle << ", \"cells\": " << s.cells << ", \"dofs\": " << s.dofs
-            << ",\n"
-            << "      \"converged\": " << (s.converged ? "true" : "false")
-            << ", \"nonlinear_iterations\": " << s.nonlinear_iterations
-            << ", \"linear_solves\": " << s.linear_solves
-            << ", \"contact_assemblies\": " << s.contact_assemblies
-            << ", \"friction_terms\": " << s.friction_terms
-            << ", \"pressure_recoveries\": " << s.pressure_recoveries << ",\n"
-            << "      \"linear_solver\": {\"method\": \"" << s.linear_method
-            << "\", \"symbolic_analyses\": " << s.linear_counts.symbolic_analyses
-            << ", \"cholesky_factorisations\": " << s.linear_counts.cholesky_factorisations
-            << ", \"lu_factorisations\": " << s.linear_counts.lu_factorisations
-            << ", \"iterative_solves\": " << s.linear_counts.iterative_solves
-            << ", \"krylov_iterations\": " << s.linear_counts.krylov_iterations
-            << ", \"inner_iterations\": " << s.linear_counts.inner_iterations
-            << ", \"residual_decades\": " << number(s.linear_counts.residual_decades)
-            << ", \"direct_fallbacks\": " << s.linear_counts.direct_fallbacks
-            << ", \"partial_steps\": " << s.linear_counts.partial_steps << "},\n"
-            << "      \"boundary_force\": " << id_map(s.boundary_force, vector) << ",\n"
-            << "      \"flux\": " << id_map(s.flux, number) << ",\n"
-            << "      \"boundary_area\": " << id_map(s.boundary_area, number) << ",\n"
-            << "      \"die_normal_force\": " << id_map(s.die_normal_force, number) << ",\n"
-            << "      \"die_friction_force\": " << id_map(s.die_friction_force, number) << ",\n"
-            << "      \"contact_nodes\": {\"separated\": " << s.contact_nodes.separated
-            << ", \"stick\": " << s.contact_nodes.stick << ", \"slip\": " << s.contact_nodes.slip
-            << "},\n"
-            << "      \"contact_length\": "
-            << id_map(s.contact_length,
-                      [](const std::array<double, 3> &l) {
-                        return "{\"separated\": " + number(l[0]) + ", \"stick\": " + number(l[1]) +
-                               ", \"slip\": " + number(l[2]) + "}";
-                      })
-            << ",\n"
-            << "      \"contact_checks\": {\"penetration\": " << number(s.contact_penetration)
-            << ", \"tension\": " << number(s.contact_tension) << ", \"friction_excess\": "
-            << number(s.friction_excess) << ", \"stick_slip_rate\": " << number(s.stick_slip_rate)
-            << ", \"separated_reaction\": " << number(s.separated_reaction)
-            << ", \"friction_power\": " << number(s.friction_power)
-            << ", \"held_in_contact\": " << s.held_in_contact
-            << ", \"regularised_friction\": " << s.regularised_friction << "},\n"
-            << "      \"divergence_ratio\": " << number(s.divergence_ratio) << ",\n"
-            << "      \"mass_balance\": {\"loss\": " << number(s.mass_balance.loss)
-            << ", \"volume_change\": " << number(s.mass_balance.volume_change)
-            << ", \"reference_flux\": " << number(s.mass_balance.reference_flux) << ", \"status\": "
-            << string(s.mass_balance_status) << "},\n"
-            << "      \"quantities\": {";
-        for (unsigned int q = 0; q < s.quantities.size(); ++q)
-          out << (q == 0 ? "" : ", ") << string(s.quantities[q].first) << ": " << number(s.quantities[q].second);
-        out << "},\n"
-            << "      \"estimated_errors\": {";
-        for (unsigned int q = 0; q < s.estimated_errors.size(); ++q)
-          out << (q == 0 ? "" : ", ") << string(s.estimated_errors[q].first) << ": "
-              << number(s.estimated_errors[q].second);
-        out << "},\n"
-            << "      \"error_estimate\": " << number(s.error_estimate)
-            << ", \"dual_weighted_error\": " << optional_number(s.dual_weighted_error)
-            << ", \"die_cell_share\": " << number(s.die_cell_share)
-            << ", \"start_distance\": " << number(s.start_distance) << ",\n"
-            << "      \"velocity_l2_error\": " << optional_number(s.velocity_l2_error)
-            << ", \"velocity_h1_error\": " << optional_number(s.velocity_h1_error) << ",\n"
-            << "      \"penalty\": " << number(s.penalty)
-            << ", \"mean_viscosity\": " << number(s.mean_viscosity) << ",\n"
-            << "      \"residual_history\": " << vector(residuals) << ",\n"
-            << "      \"active_set_changes\": " << vector(normal_changes) << ",\n"
-            << "      \"stick_slip_changes\": " << vector(tangential_changes) << ",\n"
-            << "      \"wall_time\": " << number(s.wall_time);
-        if (s.step)
+        const LinearSolverCounts &l = s.linear_counts;
+        Json cycle = {
+          {"cycle", s.cycle}, {"cells", s.cells}, {"dofs", s.dofs}, {"converged", s.converged},
+          {"nonlinear_iterations", s.nonlinear_iterations}, {"linear_solves", s.linear_solves},
+          {"contact_assemblies", s.contact_assemblies}, {"friction_terms", s.friction_terms},
+          {"pressure_recoveries", s.pressure_recoveries},
+          {"linear_solver",
+           {{"method", s.linear_method}, {"symbolic_analyses", l.symbolic_analyses},
+            {"cholesky_factorisations", l.cholesky_factorisations}, {"lu_factorisations", l.lu_factorisations},
+            {"iterative_solves", l.iterative_solves}, {"krylov_iterations", l.krylov_iterations},
+            {"inner_iterations", l.inner_iterations}, {"residual_decades", number(l.residual_decades)},
+            {"direct_fallbacks", l.direct_fallbacks}, {"partial_steps", l.partial_steps}}},
+          {"boundary_force", object(s.boundary_force, numbers)}, {"flux", object(s.flux, number)},
+          {"boundary_area", object(s.boundary_area, number)}, {"die_normal_force", object(s.die_normal_force, number)},
+          {"die_friction_force", object(s.die_friction_force, number)},
+          {"contact_nodes",
+           {{"separated", s.contact_nodes.separated}, {"stick", s.contact_nodes.stick},
+            {"slip", s.contact_nodes.slip}}},
+          {"contact_length", object(s.contact_length, [](const std::array<double, 3> &length) {
+             return Json{{"separated", number(length[0])}, {"stick", number(length[1])}, {"slip", number(length[2])}};
+           })},
+          {"contact_checks",
+           {{"penetration", number(s.contact_penetration)}, {"tension", number(s.contact_tension)},
+            {"friction_excess", number(s.friction_excess)}, {"stick_slip_rate", number(s.stick_slip_rate)},
+            {"separated_reaction", number(s.separated_reaction)}, {"friction_power", number(s.friction_power)},
+            {"held_in_contact", s.held_in_contact}, {"regularised_friction", s.regularised_friction}}},
+          {"divergence_ratio", number(s.divergence_ratio)},
+          {"mass_balance",
+           {{"loss", number(s.mass_balance.loss)}, {"volume_change", number(s.mass_balance.volume_change)},
+            {"reference_flux", number(s.mass_balance.reference_flux)}, {"status", status_name(s.mass_balance_status)}}},
+          {"quantities", object(s.quantities, number)}, {"estimated_errors", object(s.estimated_errors, number)},
+          {"error_estimate", number(s.error_estimate)}, {"dual_weighted_error", optional_number(s.dual_weighted_error)},
+          {"die_cell_share", number(s.die_cell_share)}, {"start_distance", number(s.start_distance)},
+          {"velocity_l2_error", optional_number(s.velocity_l2_error)},
+          {"velocity_h1_error", optional_number(s.velocity_h1_error)},
+          {"penalty", number(s.penalty)}, {"mean_viscosity", number(s.mean_viscosity)},
+          {"residual_history", numbers(residuals)}, {"active_set_changes", numbers(normal_changes)},
+          {"stick_slip_changes", numbers(tangential_changes)}, {"wall_time", number(s.wall_time)}};
+        if (const auto &step = s.step)
           {
-            out << ",\n      \"step\": {\"step\": " << s.step->step << ", \"time\": " << number(s.step->time)
-                << ", \"stroke\": " << number(s.step->stroke) << ", \"volume\": " << number(s.step->volume)
-                << ", \"volume_change\": " << number(s.step->volume_change)
-                << ", \"smallest_scaled_jacobian\": " << number(s.step->smallest_scaled_jacobian)
-                << ", \"faces_entered\": " << s.step->faces_entered << ", \"faces_left\": " << s.step->faces_left
-                << ", \"penetration\": " << number(s.step->penetration)
-                << ", \"mean_equivalent_strain\": " << number(s.step->mean_strain)
-                << ", \"max_equivalent_strain\": " << number(s.step->max_strain);
-            if (const auto &r = s.step->remesh)
-              out << ", \"new_mesh\": {\"cells_before\": " << r->cells_before << ", \"cells_after\": " << r->cells_after
-                  << ", \"smallest_scaled_jacobian_before\": " << number(r->jacobian_before)
-                  << ", \"smallest_scaled_jacobian_after\": " << number(r->jacobian_after)
-                  << ", \"volume_change\": " << number(r->volume_change) << ", \"split_edges\": " << r->split_edges
-                  << ", \"dropped_vertices\": " << r->dropped_vertices
-                  << "}";
-            out << "}";
+            cycle["step"] = {{"step", step->step}, {"time", number(step->time)}, {"stroke", number(step->stroke)},
+                             {"volume", number(step->volume)}, {"volume_change", number(step->volume_change)},
+                             {"smallest_scaled_jacobian", number(step->smallest_scaled_jacobian)},
+                             {"faces_entered", step->faces_entered}, {"faces_left", step->faces_left},
+                             {"penetration", number(step->penetration)},
+                             {"mean_equivalent_strain", number(step->mean_strain)},
+                             {"max_equivalent_strain", number(step->max_strain)}};
+            if (const auto &r = step->remesh)
+              cycle["step"]["new_mesh"] = {
+                {"cells_before", r->cells_before}, {"cells_after", r->cells_after},
+                {"smallest_scaled_jacobian_before", number(r->jacobian_before)},
+                {"smallest_scaled_jacobian_after", number(r->jacobian_after)},
+                {"volume_change", number(r->volume_change)}, {"split_edges", r->split_edges},
+                {"dropped_vertices", r->dropped_vertices}};
           }
         if (const auto &f = s.free_surface)
-          out << ",\n      \"free_surface\": {\"moves\": " << f->moves << ", \"settled\": " << (f->settled ? "true" : "false")
-              << ", \"largest_move\": " << number(f->largest_move) << ", \"free_faces\": " << f->free_faces << "}";
-        out << "\n    }";
+          cycle["free_surface"] = {{"moves", f->moves}, {"settled", f->settled},
+                                   {"largest_move", number(f->largest_move)}, {"free_faces", f->free_faces}};
+        cycles.push_back(std::move(cycle));
       }
-    out << "\n  ]\n}\n";
+
+    AtomicFile file(file_name);
+    // Invalid UTF-8 in a message or a path becomes U+FFFD instead of an exception.
+    file.stream() << json.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     file.commit();
   }
 } // namespace dieflow

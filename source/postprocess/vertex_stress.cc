@@ -1,3 +1,4 @@
+// The stress and the pressure at every vertex: the values of the cells around it, averaged with the cells' areas as weights.
 #include <dieflow/flow/pressure_projection.h>
 #include <dieflow/postprocess/vertex_stress.h>
 

@@ -1,3 +1,4 @@
+// Krylov solves (CG or GMRES) preconditioned by Trilinos ML's algebraic multigrid, for the augmented-Lagrangian form; MPI on first use.
 #include <dieflow/solvers/iterative_solver.h>
 
 #include <deal.II/lac/solver_cg.h>

@@ -1,3 +1,4 @@
+// The linear solves of the Newton systems: the Linear solver subsection, CHOLMOD or UMFPACK reused per mesh, the iterative path and its fallback.
 #include <dieflow/solvers/linear_solver.h>
 
 #include <suitesparse/cholmod.h>
@@ -13,6 +14,23 @@
 
 namespace dieflow
 {
+  void
+  LinearSolverCounts::add_block_solve(const unsigned int iterations,
+                                      const unsigned int inner,
+                                      const double       residual_reduction,
+                                      const bool         partial_step)
+  {
+    ++iterative_solves;
+    krylov_iterations += iterations;
+    inner_iterations += inner;
+    if (residual_reduction > 0 && residual_reduction < 1)
+      residual_decades += -std::log10(residual_reduction);
+    if (partial_step)
+      ++partial_steps;
+  }
+
+
+
   /**
    * The matrix in SuiteSparse's compressed-column form, with maps from
    * deal.II's row-wise storage (the diagonal first in each row) to it, built
@@ -175,8 +193,9 @@ namespace dieflow
 
 
 
-  LinearSolver::LinearSolver()
-    : suitesparse(std::make_unique<SuiteSparse>())
+  LinearSolver::LinearSolver(const LinearSolverParameters &parameters)
+    : parameters(parameters)
+    , suitesparse(std::make_unique<SuiteSparse>())
   {}
 
   LinearSolver::~LinearSolver() = default;
@@ -184,7 +203,7 @@ namespace dieflow
 
 
   void
-  LinearSolver::declare_parameters(ParameterHandler &prm)
+  LinearSolverParameters::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Linear solver");
     prm.declare_entry("Method",
@@ -296,11 +315,13 @@ namespace dieflow
 
 
   void
-  LinearSolver::parse_parameters(ParameterHandler &prm)
+  LinearSolverParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Linear solver");
-    method              = prm.get("Method");
-    direct_solver       = prm.get("Direct solver");
+    method              = prm.get("Method") == "iterative" ? Method::iterative :
+                          prm.get("Method") == "auto"      ? Method::automatic :
+                                                             Method::direct;
+    direct_solver       = prm.get("Direct solver") == "UMFPACK" ? DirectSolver::umfpack : DirectSolver::automatic;
     iterative_threshold = prm.get_integer("Iterative from dofs");
     augmentation        = get_positive(prm, "Linear solver/", "Augmentation factor");
     iterative_tolerance  = prm.get_double("Iterative tolerance");
@@ -323,7 +344,7 @@ namespace dieflow
 
 
   double
-  LinearSolver::forcing_tolerance(const double relative_residual,
+  LinearSolverParameters::forcing_tolerance(const double relative_residual,
                                   const double penalty_factor,
                                   const double previous_tolerance,
                                   const double previous_residual) const
@@ -370,7 +391,7 @@ namespace dieflow
     auto &s = *suitesparse;
     s.analyse_pattern(matrix);
     s.copy_values(matrix);
-    s.last_was_cholesky = symmetric && direct_solver == "auto" && s.cholesky();
+    s.last_was_cholesky = symmetric && parameters.direct_solver == LinearSolverParameters::DirectSolver::automatic && s.cholesky();
     const bool factorised = s.last_was_cholesky || s.lu();
     counts.symbolic_analyses += s.analyses;
     s.analyses = 0;
@@ -424,16 +445,16 @@ namespace dieflow
 
 
   bool
-  LinearSolver::iterative_for(const unsigned int dim, const unsigned int degree, const std::size_t n_dofs) const
+  LinearSolverParameters::iterative_for(const unsigned int dim, const unsigned int degree, const std::size_t n_dofs) const
   {
     const std::size_t threshold = iterative_threshold > 0 ? iterative_threshold : auto_threshold(dim, degree);
-    return method == "iterative" || (method == "auto" && n_dofs >= threshold);
+    return method == Method::iterative || (method == Method::automatic && n_dofs >= threshold);
   }
 
 
 
   std::size_t
-  LinearSolver::auto_threshold(const unsigned int dim, const unsigned int degree)
+  LinearSolverParameters::auto_threshold(const unsigned int dim, const unsigned int degree)
   {
     // 3D, degree 2: on the round bar quarter the direct solver was faster
     // at 7,503 unknowns (2.3 s against 3.3 s) and the mixed form at 54,033
@@ -471,7 +492,7 @@ namespace dieflow
   {
     Assert(iterative_solver, dealii::ExcMessage("set_constant_modes() comes first"));
     const IterativeSolveInfo info =
-      iterative_solver->solve(matrix, symmetric, rhs, solution, iterative_tolerance, max_augmented_iterations);
+      iterative_solver->solve(matrix, symmetric, rhs, solution, parameters.iterative_tolerance, parameters.max_augmented_iterations);
     ++counts.iterative_solves;
     counts.krylov_iterations += info.iterations;
     if (info.converged)

@@ -1,4 +1,5 @@
-#include <dieflow/interrupt.h>
+// The nonlinear iteration: what it asks of a discrete system, Picard, Newton with a line search, their settings and their log.
+#include <dieflow/base/interrupt.h>
 #include <dieflow/solvers/linear_solver.h>
 #include <dieflow/solvers/nonlinear_solver.h>
 
@@ -82,12 +83,28 @@ namespace dieflow
 
 
 
+  NonlinearSolver::Method
+  NonlinearSolver::method_named(const std::string &name)
+  {
+    return name == "Picard" ? Method::picard : name == "Picard then Newton" ? Method::picard_then_newton : Method::newton;
+  }
+
+
+
+  NonlinearSolver::NewtonTangent
+  NonlinearSolver::tangent_named(const std::string &name)
+  {
+    return name == "standard" ? NewtonTangent::standard : NewtonTangent::primal_dual;
+  }
+
+
+
   void
   NonlinearSolver::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Nonlinear solver");
-    method                    = prm.get("Method");
-    newton_tangent            = prm.get("Newton tangent");
+    method                    = method_named(prm.get("Method"));
+    newton_tangent            = tangent_named(prm.get("Newton tangent"));
     maximum_iterations        = prm.get_integer("Maximum iterations");
     residual_tolerance        = prm.get_double("Residual tolerance");
     update_tolerance          = prm.get_double("Update tolerance");
@@ -169,11 +186,11 @@ namespace dieflow
   NonlinearSolver::method_changes() const
   {
     std::vector<std::string> changes;
-    if (newton_tangent == "standard" && method != "Picard")
+    if (newton_tangent == NewtonTangent::standard && method != Method::picard)
       changes.emplace_back("set Nonlinear solver/Newton tangent = primal-dual");
-    if (method == "Newton")
+    if (method == Method::newton)
       changes.emplace_back("set Nonlinear solver/Method = Picard then Newton");
-    else if (method == "Picard then Newton")
+    else if (method == Method::picard_then_newton)
       changes.emplace_back("raise Nonlinear solver/Picard iterations (it is " + std::to_string(picard_iterations) + ")");
     return changes;
   }
@@ -234,7 +251,7 @@ namespace dieflow
       {
         const StateChanges changes = system.update_state(v);
         const bool         newton_now =
-          (method == "Newton") || (method == "Picard then Newton" && k >= picard_iterations);
+          (method == Method::newton) || (method == Method::picard_then_newton && k >= picard_iterations);
         Linearization linearization = newton_now ? Linearization::newton : Linearization::picard;
 
         const double residual = system.assemble_system(v, linearization);

@@ -1,3 +1,4 @@
+// A two-level p-multigrid cycle for the Q2 velocity block: Chebyshev smoothing on Q2, one AMG V-cycle on the Q1 Galerkin operator.
 #include <dieflow/solvers/iterative_solver.h>
 #include <dieflow/solvers/p_multigrid.h>
 

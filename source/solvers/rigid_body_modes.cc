@@ -1,3 +1,4 @@
+// The velocity's rigid-body motions at the nodes, and an ML smoothed-aggregation hierarchy with them as its near-null space.
 #include <dieflow/solvers/rigid_body_modes.h>
 
 #include <deal.II/dofs/dof_tools.h>

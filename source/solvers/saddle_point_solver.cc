@@ -1,3 +1,4 @@
+// The mixed form's update equation by block-preconditioned GMRES: a multigrid cycle for the velocity block, a scaled mass for the Schur complement.
 #include <dieflow/solvers/saddle_point_solver.h>
 
 #include <deal.II/lac/block_vector.h>
@@ -219,7 +220,9 @@ namespace dieflow
 
   template <int dim>
   typename SaddlePointSolver<dim>::Info
-  SaddlePointSolver<dim>::solve(const dealii::SparseMatrix<double> &A,
+  SaddlePointSolver<dim>::solve(const dealii::SparseMatrix<double> &     A,
+                                const dealii::AffineConstraints<double> &constraints,
+                                const dealii::Vector<double> *           flow,
                                 const MixedPenalty<dim> &           blocks,
                                 const dealii::Vector<double> &      rhs_velocity,
                                 const dealii::Vector<double> &      rhs_pressure,
@@ -251,9 +254,9 @@ namespace dieflow
     // One V-cycle: two cut the outer iterations on die2d N1 by a third (47,
     // 103, 187 per solve against 79, 130, 258 at 16, 32, 64 cells across)
     // but cost 1.2 to 1.5 times the time.
-    PMultigrid<dim> *const cycle = constraints != nullptr ? p_multigrid.get() : nullptr;
+    PMultigrid<dim> *const cycle = p_multigrid.get();
     if (cycle != nullptr)
-      cycle->initialize(A, *constraints, flow);
+      cycle->initialize(A, constraints, flow);
     else
       initialize_with_rigid_body_modes<dim>(velocity_preconditioner, velocity_matrix, A, modes,
                                             velocity_amg_data({}, true));

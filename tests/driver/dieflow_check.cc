@@ -4,8 +4,8 @@
 // the quantities the deck's "subsection Test" asks for, and the verdict of
 // each of its checks. The checks are the proof; the table guards against
 // regressions.
-#include <dieflow/parameters.h>
-#include <dieflow/run.h>
+#include <dieflow/base/parameters.h>
+#include <dieflow/problem/run.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/mpi.h>
@@ -83,8 +83,8 @@ namespace
         cycle["divergence_ratio"]   = s.divergence_ratio;
         cycle["mass_loss"]          = s.mass_balance.loss;
         cycle["volume_change"]      = s.mass_balance.volume_change;
-        cycle["mass_balance_failed"] = s.mass_balance_status == "failed";
-        cycle["mass_balance_warning"] = s.mass_balance_status == "warning";
+        cycle["mass_balance_failed"] = s.mass_balance_status == MassBalanceStatus::failed;
+        cycle["mass_balance_warning"] = s.mass_balance_status == MassBalanceStatus::warning;
         cycle["penalty"]            = s.penalty;
         cycle["separated"]          = s.contact_nodes.separated;
         cycle["stick"]              = s.contact_nodes.stick;

@@ -1,3 +1,4 @@
+// The paper's contact element in velocity form: a node against a die facet, its gap rates, the friction laws, stick or slip, and its forces.
 #ifndef dieflow_contact_element_h
 #define dieflow_contact_element_h
 

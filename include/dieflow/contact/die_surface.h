@@ -1,7 +1,9 @@
+// A rigid die read on its own: its facets, the search for a node's master facet, and the wall nodes' directions taken from it.
 #ifndef dieflow_die_surface_h
 #define dieflow_die_surface_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/archive.h>
+#include <dieflow/base/parameters.h>
 
 #include <dieflow/mesh/wall_nodes.h>
 
@@ -60,6 +62,13 @@ namespace dieflow
     /// The facets of a surface given directly (tests; a moving die later).
     void
     set_facets(const std::vector<Facet> &facets);
+
+    /// Its facets into a checkpoint, and back (load() rebuilds the search tree).
+    void
+    save(OutputArchive &ar) const;
+    void
+    load(InputArchive &ar);
+
     /// The facets, where they are now (a checkpoint's).
     const std::vector<Facet> &
     all_facets() const
@@ -160,6 +169,16 @@ namespace dieflow
     using Box = std::pair<dealii::BoundingBox<dim>, unsigned int>;
     dealii::RTree<Box> tree;
   };
+
+  /// Dies by boundary id (each with its facets) into a checkpoint, and back.
+  template <int dim>
+  void
+  save_dies(OutputArchive &ar, const std::map<BoundaryId, DieSurface<dim>> &dies);
+  template <int dim>
+  void
+  load_dies(InputArchive &ar, std::map<BoundaryId, DieSurface<dim>> &dies);
+
+
 
   /**
    * Joins the directions of @p node that are one wall of one die (the same

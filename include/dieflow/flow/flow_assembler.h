@@ -1,9 +1,11 @@
+// The flow's cell terms: the residual and the Jacobian (standard or primal-dual Newton) of the penalised velocity problem, with its loads.
 #ifndef dieflow_flow_assembler_h
 #define dieflow_flow_assembler_h
 
-#include <dieflow/flow/coordinate_system.h>
+#include <dieflow/mesh/coordinate_system.h>
 #include <dieflow/flow/material.h>
-#include <dieflow/flow/mixed_penalty.h>
+#include <dieflow/solvers/linearization.h>
+#include <dieflow/solvers/mixed_penalty.h>
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/symmetric_tensor.h>
@@ -31,14 +33,39 @@ namespace dieflow
    */
   using RowTransforms = std::unordered_map<dealii::types::global_dof_index, dealii::FullMatrix<double>>;
 
-  /// Which Jacobian to assemble.
-  enum class Linearization
+  /**
+   * What one assembly of the flow terms reads besides the velocity, and
+   * where the mixed form's blocks go: the state of the incompressibility
+   * form (Incompressibility::terms()) and the strain hardening of a run in
+   * time (IncrementalState). Passed with each call: the assembler keeps no
+   * pointer into the problem's state.
+   */
+  template <int dim>
+  struct FlowTerms
   {
-    /// eta frozen at the current iterate: successive substitution (the paper's sequence (7)).
-    picard,
-    /// the consistent tangent, including d eta / d epsdot.
-    newton
+    /// lambda of the penalty term (r of the augmented Lagrangian where there is no cell_penalty).
+    double penalty = 0;
+    /**
+     * The augmented-Lagrangian form and the mixed form: a multiplier q_h in
+     * the pressure space (PressureProjection::n_modes() coefficients per
+     * active cell) joins the penalty pressure, sigma = 2 eta D + (q_h + r P
+     * div v) I, so the residual gains int q_h div w and the Jacobian is
+     * unchanged; null: the plain penalty method.
+     */
+    const Vector<double> *multiplier = nullptr;
+    /// A penalty per active cell (replacing penalty there), or null.
+    const Vector<double> *cell_penalty = nullptr;
+    /// A factor of the viscosity per active cell (strain hardening,
+    /// Material::hardening()), or null: eta and its rate derivative scale
+    /// alike, so the Newton tangent stays consistent.
+    const Vector<double> *hardening = nullptr;
+    /// The mixed form (velocity degree 2, with a matrix only): the penalty's
+    /// matrix term lambda B^T M^-1 B stays out of the matrix, which is then
+    /// the velocity block A, and its blocks go here.
+    MixedPenalty<dim> *mixed = nullptr;
   };
+
+
 
   /**
    * The cell terms of the penalised velocity problem (7)-(9) of the paper:
@@ -137,72 +164,32 @@ namespace dieflow
       traction_ids = other.traction_ids;
     }
 
-    void
-    set_penalty(const double lambda)
-    {
-      penalty = lambda;
-    }
-    double
-    get_penalty() const
-    {
-      return penalty;
-    }
-
-    /**
-     * The augmented-Lagrangian form: a multiplier q_h in the pressure space
-     * (PressureProjection::n_modes() coefficients per active cell) joins
-     * the penalty pressure, sigma = 2 eta D + (q_h + r P div v) I, so the
-     * residual gains int q_h div w and the Jacobian is unchanged
-     * (r = get_penalty()); null: the plain penalty method.
-     */
-    void
-    set_multiplier(const Vector<double> *q)
-    {
-      multiplier = q;
-    }
-
-    /// A penalty per active cell (replacing get_penalty() there), or null.
-    void
-    set_cell_penalty(const Vector<double> *r)
-    {
-      cell_penalty = r;
-    }
-
-    /// A factor of the viscosity per active cell (strain hardening,
-    /// Material::hardening()), or null: eta and its rate derivative scale
-    /// alike, so the Newton tangent stays consistent.
-    void
-    set_cell_hardening(const Vector<double> *factor)
-    {
-      cell_hardening = factor;
-    }
-
     /**
      * The Jacobian and the right-hand side -R(v) of the update equation,
      * condensed with the homogeneous @p update_constraints, and the raw
      * (unconstrained) residual R(v) whose entries at constrained dofs are
      * the reaction forces; @p transforms (if any) apply to the condensed
-     * system, not to the raw residual.
-     *
-     * With @p mixed (velocity degree 2 only), the penalty's matrix term
-     * lambda B^T M^-1 B stays out of @p matrix, which is then the velocity
-     * block A, and its blocks go to @p mixed (the residual is unchanged).
+     * system, not to the raw residual. @p terms: the penalty's state and
+     * the hardening; with terms.mixed (velocity degree 2 only), @p matrix
+     * is the velocity block A and the penalty's blocks go to terms.mixed
+     * (the residual is unchanged).
      */
     void
     assemble_system(const DoFHandler<dim> &           dof_handler,
                     const Vector<double> &            velocity,
+                    const FlowTerms<dim> &            terms,
                     const AffineConstraints<double> & update_constraints,
                     const Linearization               linearization,
                     SparseMatrix<double> &            matrix,
                     Vector<double> &                  rhs,
                     Vector<double> &                  raw_residual,
-                    const RowTransforms *             transforms = nullptr,
-                    MixedPenalty<dim> *               mixed      = nullptr) const;
+                    const RowTransforms *             transforms = nullptr) const;
 
     /// As assemble_system() without the matrix: rhs = -R(v) condensed, and the raw R(v).
     void
     assemble_residual(const DoFHandler<dim> &          dof_handler,
                       const Vector<double> &           velocity,
+                      const FlowTerms<dim> &           terms,
                       const AffineConstraints<double> &update_constraints,
                       Vector<double> &                 rhs,
                       Vector<double> &                 raw_residual,
@@ -216,13 +203,13 @@ namespace dieflow
     void
     assemble(const DoFHandler<dim> &           dof_handler,
              const Vector<double> &            velocity,
+             const FlowTerms<dim> &            terms,
              const AffineConstraints<double> & update_constraints,
              const Linearization               linearization,
              SparseMatrix<double> *            matrix,
              Vector<double> &                  rhs,
              Vector<double> &                  raw_residual,
-             const RowTransforms *             transforms,
-             MixedPenalty<dim> *               mixed) const;
+             const RowTransforms *             transforms) const;
 
     unsigned int
     n_dual_points(const DoFHandler<dim> &dof_handler) const;
@@ -234,10 +221,6 @@ namespace dieflow
     const dealii::Function<dim> *body_force;
     const dealii::Function<dim> *traction = nullptr;
     std::set<dealii::types::boundary_id> traction_ids;
-    double                       penalty    = 0;
-    const Vector<double> *       multiplier = nullptr;
-    const Vector<double> *       cell_penalty = nullptr;
-    const Vector<double> *       cell_hardening = nullptr;
   };
 } // namespace dieflow
 

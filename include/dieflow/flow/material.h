@@ -1,7 +1,8 @@
+// The material: the viscosity laws (Newtonian, Norton-Hoff, Sellars-Tegart), their regularisation and bounds, strain hardening, the penalty factor.
 #ifndef dieflow_material_h
 #define dieflow_material_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <cmath>
 #include <memory>

@@ -1,7 +1,8 @@
+// The penalty's discontinuous pressure space per cell, the projection P of div v onto it, and the divergence and pressure per cell.
 #ifndef dieflow_pressure_projection_h
 #define dieflow_pressure_projection_h
 
-#include <dieflow/flow/coordinate_system.h>
+#include <dieflow/mesh/coordinate_system.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -14,6 +15,10 @@
 
 namespace dieflow
 {
+  using dealii::DoFHandler;
+  using dealii::Tensor;
+  using dealii::Vector;
+
   /**
    * The discontinuous pressure space of the penalty term, per cell K, and
    * the L2 projection P of div v onto it: the penalty reads
@@ -146,6 +151,35 @@ namespace dieflow
     std::vector<dealii::types::global_dof_index> cell_dofs;
     std::vector<double>                          cell_velocity;
   };
+
+  /**
+   * ||P div v|| / ||grad v|| in L2, P the projection of the penalty term
+   * (PressureProjection): what the penalty controls. Degree 1: div v at the
+   * cell centres (the cell mean of div v on parallelograms, the discrete
+   * mass balance of the Q1-P0 pair); degree 2: the P1disc projection.
+   */
+  template <int dim>
+  double
+  divergence_ratio(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+
+  /// The coefficients of P div v per cell (PressureProjection::n_modes()
+  /// each): degree 1 div v at the cell centre (what the one-point penalty
+  /// term sees), degree 2 the P1disc projection.
+  template <int dim>
+  Vector<double>
+  cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
+
+  /// Pressure p = -(q + lambda P div v), its coefficients per cell as
+  /// cell_divergence() (q: the augmented-Lagrangian multiplier, if any;
+  /// lambda per cell if given).
+  template <int dim>
+  Vector<double>
+  cell_pressure(const CoordinateSystem<dim> &coordinates,
+                const DoFHandler<dim> &dof_handler,
+                const Vector<double> & velocity,
+                const double           penalty,
+                const Vector<double> * multiplier,
+                const Vector<double> * cell_penalty);
 } // namespace dieflow
 
 #endif

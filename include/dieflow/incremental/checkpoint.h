@@ -1,7 +1,8 @@
+// The deck's checkpoint entries of a run in time: how often, and where to go on from.
 #ifndef dieflow_incremental_checkpoint_h
 #define dieflow_incremental_checkpoint_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <string>
 

@@ -1,9 +1,11 @@
+// Contact in a run in time by the gap in positions: nodes put back onto the dies, faces that come onto and leave them, gaps closed within a step.
 #ifndef dieflow_incremental_contact_gaps_h
 #define dieflow_incremental_contact_gaps_h
 
+#include <dieflow/base/archive.h>
 #include <dieflow/contact/die_surface.h>
 #include <dieflow/mesh/wall_nodes.h>
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/grid/tria.h>
 
@@ -137,19 +139,12 @@ namespace dieflow
     void
     renumber_faces(const std::map<unsigned int, unsigned int> &new_face_of_old);
 
-    /// What a checkpoint keeps: the dies where they are, the faces' ids
+    /// Into a checkpoint, and back: the dies where they are, the faces' ids
     /// before they came onto a die, the free ids and the tolerance.
-    struct State
-    {
-      std::map<BoundaryId, std::vector<typename DieSurface<dim>::Facet>> dies;
-      std::map<unsigned int, BoundaryId>                                 id_before;
-      std::set<BoundaryId>                                               free_ids;
-      double                                                             tolerance = 0;
-    };
-    State
-    state() const;
     void
-    restore(const State &state);
+    save(OutputArchive &ar) const;
+    void
+    load(InputArchive &ar);
 
     /// Moves die @p id by @p shift (Contact/Die velocities: V dt), before update().
     void

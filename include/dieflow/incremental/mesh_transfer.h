@@ -1,7 +1,8 @@
+// Fields carried from a moved mesh to a new mesh of the same domain: nodal fields at the new nodes, cell fields at the new cells' centres.
 #ifndef dieflow_incremental_mesh_transfer_h
 #define dieflow_incremental_mesh_transfer_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/vector.h>

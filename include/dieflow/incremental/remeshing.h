@@ -1,7 +1,8 @@
+// Meshing a run's domain anew: when (the deck's remeshing entries), and how (Gmsh's quadrilaterals inside the same boundary).
 #ifndef dieflow_incremental_remeshing_h
 #define dieflow_incremental_remeshing_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/grid/tria.h>
 

@@ -1,8 +1,11 @@
+// Steps in time: the deck's entries, the integrators (forward Euler, Adams-Bashforth 2), the fixed walls, and the cells' strain rates.
 #ifndef dieflow_incremental_time_stepping_h
 #define dieflow_incremental_time_stepping_h
 
-#include <dieflow/flow/coordinate_system.h>
-#include <dieflow/parameters.h>
+#include <dieflow/base/archive.h>
+#include <dieflow/mesh/coordinate_system.h>
+#include <dieflow/base/parameters.h>
+#include <dieflow/mesh/mesh_motion.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/grid/tria.h>
@@ -70,25 +73,6 @@ namespace dieflow
   };
 
   /**
-   * Adds the vertex values of @p displacement (a dof vector of the
-   * velocity's vector element) to the triangulation's vertices, each once.
-   * A hanging vertex then goes to the mean of its parent edge's (face's)
-   * vertices: the geometry is MappingQ1's, and a degree-2 field's value at a
-   * hanging vertex would take it off its coarse neighbour's straight edge.
-   */
-  template <int dim>
-  void
-  move_vertices(const dealii::DoFHandler<dim> &dof_handler,
-                const dealii::Vector<double> & displacement,
-                dealii::Triangulation<dim> &   triangulation);
-
-  /// Puts every hanging vertex at the mean of its parent edge's (face's)
-  /// vertices, after the others moved (move_vertices(), a free surface's move).
-  template <int dim>
-  void
-  place_hanging_vertices(dealii::Triangulation<dim> &triangulation);
-
-  /**
    * The fixed walls of a moving mesh (symmetry planes and lines, the axis,
    * slip walls): the planes of their faces at t = 0, by vertex. A node's
    * velocity normal to a wall is constrained to zero, but at a corner of two
@@ -106,18 +90,11 @@ namespace dieflow
     void
     keep(dealii::Triangulation<dim> &triangulation) const;
 
-    /// Per vertex index, the points and normals of its walls' planes (a checkpoint's).
-    using Planes = std::map<unsigned int, std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>>>;
-    const Planes &
-    all_planes() const
-    {
-      return planes;
-    }
+    /// The planes into a checkpoint, and back.
     void
-    set_planes(const Planes &kept)
-    {
-      planes = kept;
-    }
+    save(OutputArchive &ar) const;
+    void
+    load(InputArchive &ar);
 
   private:
     /// Per vertex: a point of each wall plane it lies on, and the plane's unit normal.
@@ -136,40 +113,6 @@ namespace dieflow
                     const dealii::DoFHandler<dim> &dof_handler,
                     const dealii::Vector<double> & velocity);
 
-  /// The volume of the mesh (plane strain: area per mm of depth; axisymmetric: 2 pi int y).
-  template <int dim>
-  double
-  domain_volume(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation);
-
-  /// Each active cell's volume, as domain_volume() counts it.
-  template <int dim>
-  dealii::Vector<double>
-  cell_volumes(const CoordinateSystem<dim> &coordinates, const dealii::Triangulation<dim> &triangulation);
-
-  /**
-   * The smallest scaled Jacobian of the mesh: at every vertex of every cell,
-   * det(e_1, ..., e_dim) / (|e_1| ... |e_dim|) with e_d the cell's edges
-   * from that vertex (the sine of the corner angle in 2D). 1 for
-   * rectangles, 0 for a degenerate corner, negative for an inverted cell.
-   */
-  template <int dim>
-  double
-  smallest_scaled_jacobian(const dealii::Triangulation<dim> &triangulation);
-
-  /// The centre of a cell of smallest scaled Jacobian (where a mesh went bad: the log's).
-  template <int dim>
-  dealii::Point<dim>
-  worst_cell_centre(const dealii::Triangulation<dim> &triangulation);
-
-  /// The same for one cell: the smallest over its vertices.
-  template <int dim>
-  double
-  scaled_jacobian(const typename dealii::Triangulation<dim>::cell_iterator &cell);
-
-  /// The same for a cell given by its vertices in lexicographic order.
-  template <int dim>
-  double
-  scaled_jacobian(const std::array<dealii::Point<dim>, (1u << dim)> &vertices);
 } // namespace dieflow
 
 #endif

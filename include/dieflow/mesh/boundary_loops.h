@@ -1,7 +1,8 @@
+// The closed loops of a 2D mesh's boundary edges, each counter-clockwise about the domain, read from the cells' topology.
 #ifndef dieflow_boundary_loops_h
 #define dieflow_boundary_loops_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/grid/tria.h>
 

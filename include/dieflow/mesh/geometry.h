@@ -1,7 +1,8 @@
+// The mesh of a deck: the Mesh subsection, the die2d scene, the box, Gmsh files, the checks of boundary ids and of the axis.
 #ifndef dieflow_geometry_h
 #define dieflow_geometry_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria.h>
@@ -42,7 +43,14 @@ namespace dieflow
     double       container_length   = 20;
     double       land_length        = 15;
     unsigned int cells_across       = 4;
-    std::string  layout             = "bisected";
+    /// How the blocks of the die section are cut (doc/benchmarks.md): along
+    /// the verticals through C and D, or along the bisectors of their angles.
+    enum class Layout
+    {
+      blocks,
+      bisected
+    };
+    Layout       layout             = Layout::bisected;
     /// Power grading towards the die corners and the walls (1: uniform).
     double       grading_exponent   = 1;
     /// Dimension = 3: the scene extruded over z in [0, depth] (ids 6, 7).
@@ -91,7 +99,20 @@ namespace dieflow
    */
   struct MeshParameters
   {
-    std::string   source = "die2d";
+    /// Where the mesh comes from (Mesh/Source).
+    enum class Source
+    {
+      die2d,
+      round_bar_quarter,
+      rectangular_bar_quarter,
+      box,
+      gmsh
+    };
+    /// The deck's names: "die2d", "round bar quarter", "rectangular bar quarter", "box", "gmsh".
+    static Source
+    source_named(const std::string &name);
+
+    Source        source = Source::die2d;
     Die2dGeometry die2d;
     BoxGeometry   box;
     /// As written in the deck (error messages name it so).

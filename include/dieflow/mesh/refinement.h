@@ -1,7 +1,8 @@
+// The deck's Refinement subsection, the error indicators per cell (Kelly's, the die criterion, both), and the marking of cells.
 #ifndef dieflow_refinement_h
 #define dieflow_refinement_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -17,10 +18,30 @@ namespace dieflow
   /// The deck's "Refinement" subsection.
   struct RefinementParameters
   {
+    /// global: every cell; adaptive: the cells the indicator marks.
+    enum class Strategy
+    {
+      global,
+      adaptive
+    };
+    /// Kelly's indicator, the die criterion alone, Kelly's weighted by it,
+    /// or goal-oriented towards the ram force.
+    enum class Indicator
+    {
+      kelly,
+      die,
+      combined,
+      dual_weighted
+    };
+    enum class Marking
+    {
+      fixed_fraction,
+      fixed_number
+    };
     unsigned int cycles          = 1;
-    std::string  strategy        = "global";
-    std::string  indicator       = "combined";
-    std::string  marking         = "fixed fraction";
+    Strategy     strategy        = Strategy::global;
+    Indicator    indicator       = Indicator::combined;
+    Marking      marking         = Marking::fixed_fraction;
     double       refine_fraction  = 0.3;
     double       coarsen_fraction = 0;
     double       die_band        = 0;

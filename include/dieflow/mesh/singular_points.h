@@ -1,7 +1,8 @@
+// The corners of the walls, where the velocity is singular, and the geometric grading of the mesh towards them.
 #ifndef dieflow_singular_points_h
 #define dieflow_singular_points_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria.h>

@@ -1,9 +1,10 @@
+// The nodes on the walls: their dofs, facet normals and weights, the constraints v.n = g there, and a reaction's components along the normals.
 #ifndef dieflow_wall_nodes_h
 #define dieflow_wall_nodes_h
 
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
-#include <dieflow/flow/coordinate_system.h>
+#include <dieflow/mesh/coordinate_system.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>

@@ -1,8 +1,9 @@
+// The goal-oriented estimate of a force's error: the force's dual problem, its dual-weighted residual, and the refinement indicators it gives.
 #ifndef dieflow_goal_estimate_h
 #define dieflow_goal_estimate_h
 
-#include <dieflow/boundary_conditions.h>
-#include <dieflow/contact/contact.h>
+#include <dieflow/flow/boundary_conditions.h>
+#include <dieflow/contact/contact_set.h>
 #include <dieflow/flow/flow_assembler.h>
 
 #include <deal.II/dofs/dof_handler.h>
@@ -55,6 +56,7 @@ namespace dieflow
              const dealii::SparsityPattern &               pattern,
              const Vector<double> &                        velocity,
              const FlowAssembler<dim> &                    assembler,
+             const FlowTerms<dim> &                        terms,
              const ContactSet<dim> &                       contact,
              const Vector<double> &                        psi,
              const std::function<void(Vector<double> &)> & solve_transposed);
@@ -116,6 +118,7 @@ namespace dieflow
                             const AffineConstraints<double> &hanging_node_constraints,
                             const Vector<double> &           velocity,
                             const FlowAssembler<dim> &       assembler,
+                            const FlowTerms<dim> &           terms,
                             const Material &                 material,
                             const ContactSet<dim> &          contact,
                             const BoundaryConditions<dim> &  boundary_conditions,

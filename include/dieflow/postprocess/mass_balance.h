@@ -1,8 +1,9 @@
+// How much mass the penalty lets the metal lose: the two measures, the guard's verdict on them, and what to change when it fails.
 #ifndef dieflow_mass_balance_h
 #define dieflow_mass_balance_h
 
-#include <dieflow/flow/coordinate_system.h>
-#include <dieflow/parameters.h>
+#include <dieflow/mesh/coordinate_system.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/vector.h>
@@ -50,12 +51,28 @@ namespace dieflow
                const Vector<double> &                velocity,
                const std::map<BoundaryId, double> &  flux);
 
+  /// The mass-balance guard's verdict on a cycle.
+  enum class MassBalanceStatus
+  {
+    /// not judged (the cycle did not converge)
+    unchecked,
+    /// the guard is off (tolerance 0)
+    off,
+    ok,
+    warning,
+    failed
+  };
+
+  /// "", "off", "ok", "warning", "failed" (summary.json).
+  std::string
+  status_name(const MassBalanceStatus status);
+
   /**
    * The guard on a converged result (Nonlinear solver/Mass balance
-   * tolerance = tol): "failed" when MassBalance::worst() > tol (the run is
-   * then not converged), "warning" above tol / 10, else "ok".
+   * tolerance = tol): failed when MassBalance::worst() > tol (the run is
+   * then not converged), warning above tol / 10, else ok.
    */
-  std::string
+  MassBalanceStatus
   mass_balance_status(const MassBalance &balance, const double tolerance);
 
   /**

@@ -1,8 +1,9 @@
+// What a solution gives: the boundary parts' fluxes, areas and forces, errors against an exact velocity, and the fields written to files.
 #ifndef dieflow_postprocess_h
 #define dieflow_postprocess_h
 
-#include <dieflow/boundary_conditions.h>
-#include <dieflow/flow/coordinate_system.h>
+#include <dieflow/flow/boundary_conditions.h>
+#include <dieflow/mesh/coordinate_system.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/mesh/wall_nodes.h>
 
@@ -71,41 +72,12 @@ namespace dieflow
                   const std::set<BoundaryId> &      frictionless_ids = {},
                   std::vector<WallShare<dim>> *     wall_shares      = nullptr);
 
-  /**
-   * ||P div v|| / ||grad v|| in L2, P the projection of the penalty term
-   * (PressureProjection): what the penalty controls. Degree 1: div v at the
-   * cell centres (the cell mean of div v on parallelograms, the discrete
-   * mass balance of the Q1-P0 pair); degree 2: the P1disc projection.
-   */
-  template <int dim>
-  double
-  divergence_ratio(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
-
   /// L2 norm of v - v_exact and of grad (v - v_exact) (3x3 Gauss points).
   template <int dim>
   std::pair<double, double>
   velocity_errors(const DoFHandler<dim> &        dof_handler,
                   const Vector<double> &         velocity,
                   const dealii::Function<dim> &  exact);
-
-  /// The coefficients of P div v per cell (PressureProjection::n_modes()
-  /// each): degree 1 div v at the cell centre (what the one-point penalty
-  /// term sees), degree 2 the P1disc projection.
-  template <int dim>
-  Vector<double>
-  cell_divergence(const CoordinateSystem<dim> &coordinates, const DoFHandler<dim> &dof_handler, const Vector<double> &velocity);
-
-  /// Pressure p = -(q + lambda P div v), its coefficients per cell as
-  /// cell_divergence() (q: the augmented-Lagrangian multiplier, if any;
-  /// lambda per cell if given).
-  template <int dim>
-  Vector<double>
-  cell_pressure(const CoordinateSystem<dim> &coordinates,
-                const DoFHandler<dim> &dof_handler,
-                const Vector<double> & velocity,
-                const double           penalty,
-                const Vector<double> * multiplier,
-                const Vector<double> * cell_penalty);
 
   /**
    * Writes velocity, pressure (the cell mean of the pressure given as

@@ -1,3 +1,4 @@
+// The mesh study of a run: a row per cycle, and the Richardson extrapolation and error estimates of the quantities of interest.
 #ifndef dieflow_study_h
 #define dieflow_study_h
 

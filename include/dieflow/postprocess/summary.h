@@ -1,9 +1,13 @@
+// The run's summary: what each cycle and the whole run report, the result lines on screen and summary.json.
 #ifndef dieflow_summary_h
 #define dieflow_summary_h
 
+#include <dieflow/contact/contact_results.h>
+#include <dieflow/incremental/step_record.h>
 #include <dieflow/postprocess/mass_balance.h>
+#include <dieflow/solvers/linear_solver.h>
 #include <dieflow/solvers/nonlinear_solver.h>
-#include <dieflow/parameters.h>
+#include <dieflow/base/parameters.h>
 
 #include <array>
 #include <map>
@@ -14,44 +18,6 @@
 
 namespace dieflow
 {
-  /// Node counts of the contact state.
-  struct ContactCounts
-  {
-    unsigned int separated = 0;
-    unsigned int stick     = 0;
-    unsigned int slip      = 0;
-  };
-
-  /// What the linear solvers did in one cycle.
-  struct LinearSolverCounts
-  {
-    /// Iterative method: solves, their Krylov iterations, and the solves
-    /// that did not converge and went to the direct solver.
-    unsigned int iterative_solves  = 0;
-    unsigned int krylov_iterations = 0;
-    /// Degree 2 with an inner solve of the velocity block: its iterations.
-    unsigned int inner_iterations = 0;
-    /**
-     * Degree 2: the decades by which the solves reduced their residuals,
-     * sum of log10(1 / reduction). krylov_iterations / residual_decades is
-     * the preconditioner's rate, free of the forcing term: finer meshes ask
-     * Newton's later solves for more decades (die2d, 42k / 668k unknowns:
-     * 31 / 40 decades over the run), which raises the iterations per solve
-     * at an unchanged rate.
-     */
-    double       residual_decades = 0;
-    unsigned int direct_fallbacks  = 0;
-    /// Degree 2: solves that stopped short of their tolerance (residual
-    /// reduced at least tenfold) taken as inexact Newton steps, where the
-    /// direct fallback would not have fitted in memory.
-    unsigned int partial_steps = 0;
-    /// Direct solver: orderings with symbolic factorisations (one per mesh
-    /// and kind when the reuse works), and numeric factorisations by kind.
-    unsigned int symbolic_analyses       = 0;
-    unsigned int cholesky_factorisations = 0;
-    unsigned int lu_factorisations       = 0;
-  };
-
   /**
    * A quantity of interest over the cycles of a run: its last value, the
    * Richardson extrapolation Q* with its error and order, and the estimated
@@ -65,51 +31,6 @@ namespace dieflow
     double      extrapolation_error = 0;
     double      order        = 0;
     double      estimate     = 0;
-  };
-
-  /// A new mesh of the domain (remesh_domain(), before step @p step's solve).
-  struct RemeshRecord
-  {
-    unsigned int step = 0;
-    unsigned int cells_before = 0, cells_after = 0;
-    /// smallest_scaled_jacobian() of the moved mesh and of the new one.
-    double jacobian_before = 0, jacobian_after = 0;
-    /// (V_new - V_old) / V_old: round-off where the boundary is kept, the
-    /// triangles of the dropped vertices where not.
-    double volume_change = 0;
-    /// Boundary edges split at their midpoints (an odd loop).
-    unsigned int split_edges = 0;
-    /// Boundary vertices that crowded their neighbours, dropped.
-    unsigned int dropped_vertices = 0;
-  };
-
-  /// What a step of Problem = incremental adds to its cycle's report.
-  struct StepRecord
-  {
-    unsigned int step = 0;
-    /// t_n in s.
-    double time = 0;
-    /// How far the ram has travelled since t = 0: the mean displacement
-    /// along x of the vertices of the first prescribed-velocity part, or,
-    /// with none, the travel |V| t of the first moving die (mm).
-    double stroke = 0;
-    /// The volume of the mesh (plane strain: mm^2 per mm of depth), and
-    /// (V - V_0) / V_0.
-    double volume        = 0;
-    double volume_change = 0;
-    /// smallest_scaled_jacobian() of the mesh (1: rectangles; time_stepping.h).
-    double smallest_scaled_jacobian = 1;
-    /// The move to this configuration (contact_gaps.h): boundary faces that
-    /// came onto a die and left it, and the deepest a free node went
-    /// through a die before it was put back on it (mm).
-    unsigned int faces_entered = 0;
-    unsigned int faces_left    = 0;
-    double       penetration   = 0;
-    /// The equivalent strain the metal has taken: its mean over the volume and its largest cell value.
-    double mean_strain = 0;
-    double max_strain  = 0;
-    /// The new mesh this step was solved on, if the domain was meshed anew.
-    std::optional<RemeshRecord> remesh;
   };
 
   /// What the free surface of a steady cycle did (free_surface.h).
@@ -180,7 +101,7 @@ namespace dieflow
     /// How much mass the penalty lost, and the guard's verdict on it:
     /// "ok", "warning" or "failed" ("" when the cycle did not converge).
     MassBalance mass_balance;
-    std::string mass_balance_status;
+    MassBalanceStatus mass_balance_status = MassBalanceStatus::unchecked;
     std::optional<double> velocity_l2_error;
     std::optional<double> velocity_h1_error;
     /// The quantities of interest, in a fixed order: the force along x on

@@ -1,7 +1,8 @@
+// The stress and the pressure at every vertex: the values of the cells around it, averaged with the cells' areas as weights.
 #ifndef dieflow_vertex_stress_h
 #define dieflow_vertex_stress_h
 
-#include <dieflow/flow/coordinate_system.h>
+#include <dieflow/mesh/coordinate_system.h>
 #include <dieflow/flow/material.h>
 
 #include <deal.II/base/symmetric_tensor.h>

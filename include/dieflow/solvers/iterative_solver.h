@@ -1,3 +1,4 @@
+// Krylov solves (CG or GMRES) preconditioned by Trilinos ML's algebraic multigrid, for the augmented-Lagrangian form; MPI on first use.
 #ifndef dieflow_iterative_solver_h
 #define dieflow_iterative_solver_h
 

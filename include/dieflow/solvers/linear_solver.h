@@ -1,9 +1,9 @@
+// The linear solves of the Newton systems: the Linear solver subsection, CHOLMOD or UMFPACK reused per mesh, the iterative path and its fallback.
 #ifndef dieflow_linear_solver_h
 #define dieflow_linear_solver_h
 
 #include <dieflow/solvers/iterative_solver.h>
-#include <dieflow/parameters.h>
-#include <dieflow/postprocess/summary.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
@@ -29,6 +29,45 @@ namespace dieflow
     using SolverFailure::SolverFailure;
   };
 
+  /// What the linear solvers did in one cycle.
+  struct LinearSolverCounts
+  {
+    /// Iterative method: solves, their Krylov iterations, and the solves
+    /// that did not converge and went to the direct solver.
+    unsigned int iterative_solves  = 0;
+    unsigned int krylov_iterations = 0;
+    /// Degree 2 with an inner solve of the velocity block: its iterations.
+    unsigned int inner_iterations = 0;
+    /**
+     * Degree 2: the decades by which the solves reduced their residuals,
+     * sum of log10(1 / reduction). krylov_iterations / residual_decades is
+     * the preconditioner's rate, free of the forcing term: finer meshes ask
+     * Newton's later solves for more decades (die2d, 42k / 668k unknowns:
+     * 31 / 40 decades over the run), which raises the iterations per solve
+     * at an unchanged rate.
+     */
+    double       residual_decades = 0;
+    unsigned int direct_fallbacks  = 0;
+    /// Degree 2: solves that stopped short of their tolerance (residual
+    /// reduced at least tenfold) taken as inexact Newton steps, where the
+    /// direct fallback would not have fitted in memory.
+    unsigned int partial_steps = 0;
+    /// Direct solver: orderings with symbolic factorisations (one per mesh
+    /// and kind when the reuse works), and numeric factorisations by kind.
+    unsigned int symbolic_analyses       = 0;
+    unsigned int cholesky_factorisations = 0;
+    unsigned int lu_factorisations       = 0;
+
+    /// Counts one iterative solve of the mixed form: its outer and inner
+    /// iterations, the decades its residual fell by (@p residual_reduction:
+    /// the final over the initial residual), whether it was a partial step.
+    void
+    add_block_solve(const unsigned int iterations,
+                    const unsigned int inner,
+                    const double       residual_reduction,
+                    const bool         partial_step);
+  };
+
   /**
    * Solves the linearised systems J du = -R with SuiteSparse's sparse direct
    * solvers, called directly so that the fill-reducing ordering and symbolic
@@ -47,36 +86,13 @@ namespace dieflow
    * iterative solve that does not converge falls back to the direct
    * solvers, and is counted.
    */
-  class LinearSolver
+  /// The deck's "Linear solver" subsection: which method, and its settings.
+  struct LinearSolverParameters
   {
-  public:
-    LinearSolver();
-    ~LinearSolver();
-
     static void
     declare_parameters(ParameterHandler &prm);
     void
     parse_parameters(ParameterHandler &prm);
-
-    /// Forget the sparsity pattern's analysis (call when the mesh changes).
-    void
-    reset();
-
-    /// Factorises @p matrix (@p symmetric: J = J^T); throws SolverFailure if it cannot.
-    void
-    factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric);
-
-    /// Solves with the last factorisation (@p transpose: with J^T, for adjoints).
-    void
-    solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution, const bool transpose = false);
-
-    /// Whether a factorisation of this mesh's matrix is at hand (none after reset()).
-    bool
-    has_factorisation() const;
-
-    /// Which solver the last factorisation used ("CHOLMOD" or "UMFPACK").
-    std::string
-    last_solver() const;
 
     /**
      * Whether systems of @p n_dofs unknowns of velocity degree @p degree in
@@ -105,6 +121,93 @@ namespace dieflow
     /// solver is faster than more Krylov steps.
     static constexpr unsigned int default_augmented_iterations = 500;
     unsigned int                  max_augmented_iterations     = default_augmented_iterations;
+
+    /// How the Newton systems are solved.
+    enum class Method
+    {
+      direct,
+      iterative,
+      /// iterative from iterative_threshold dofs on (auto_threshold() where that is 0)
+      automatic
+    };
+    Method      method = Method::direct;
+    std::size_t iterative_threshold = 0;
+    /// r/eta of the augmented-Lagrangian iteration.
+    double augmentation = 1e3;
+    /// Relative residual at which an iterative solve stops.
+    double iterative_tolerance = 1e-6;
+    bool inexact_newton = true;
+    /// Degree 2: the velocity block's cycle is PMultigrid (else AMG on the Q2 block).
+    bool p_multigrid = true;
+    /// Degree 2: 0 for one V-cycle on the velocity block, else the inner solve's tolerance.
+    double inner_tolerance = 0;
+    /// Divergence ratio at which the multiplier iteration stops.
+    double divergence_tolerance = 1e-7;
+
+    /**
+     * The relative tolerance of an iterative solve of the Newton system at
+     * an iterate whose relative residual is @p relative_residual: with
+     * 'Inexact Newton', 0.1 x that, between 'Iterative tolerance' and
+     * 1e-2 (the inexact Newton method, Dembo, Eisenstat and Steihaug 1982:
+     * a step solved to a fraction eta of the residual keeps Newton's
+     * convergence superlinear when eta -> 0 with the residual, so the early
+     * steps need not be solved to the last digits); else 'Iterative
+     * tolerance'. Where @p penalty_factor exceeds 1e7, the factor 0.1 and
+     * 'Iterative tolerance' are both multiplied by 1e7 / @p penalty_factor
+     * (the carried pressure takes up lambda x the solve's residual).
+     * Given the last solve of this mesh (its tolerance @p previous_tolerance
+     * at the relative residual @p previous_residual; 0: none), a residual
+     * that grew gets no looser an absolute accuracy: tolerance x residual
+     * at most @p previous_tolerance x @p previous_residual (but never below
+     * the tightest tolerance).
+     */
+    double
+    forcing_tolerance(const double relative_residual,
+                      const double penalty_factor,
+                      const double previous_tolerance = 0,
+                      const double previous_residual  = 0) const;
+    /// Which direct solver factorises.
+    enum class DirectSolver
+    {
+      /// CHOLMOD where the matrix is symmetric, UMFPACK elsewhere
+      automatic,
+      /// UMFPACK (LU) always
+      umfpack
+    };
+    DirectSolver direct_solver = DirectSolver::automatic;
+
+  };
+
+
+
+  class LinearSolver
+  {
+  public:
+    explicit LinearSolver(const LinearSolverParameters &parameters);
+    ~LinearSolver();
+
+    /// The deck's settings (the problem's ProblemParameters keep them).
+    const LinearSolverParameters &parameters;
+
+    /// Forget the sparsity pattern's analysis (call when the mesh changes).
+    void
+    reset();
+
+    /// Factorises @p matrix (@p symmetric: J = J^T); throws SolverFailure if it cannot.
+    void
+    factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric);
+
+    /// Solves with the last factorisation (@p transpose: with J^T, for adjoints).
+    void
+    solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution, const bool transpose = false);
+
+    /// Whether a factorisation of this mesh's matrix is at hand (none after reset()).
+    bool
+    has_factorisation() const;
+
+    /// Which solver the last factorisation used ("CHOLMOD" or "UMFPACK").
+    std::string
+    last_solver() const;
 
     /// The velocity components' constant modes, for the AMG preconditioner.
     void
@@ -149,47 +252,8 @@ namespace dieflow
                       const dealii::Vector<double> &      rhs,
                       dealii::Vector<double> &            solution);
 
-    /// "direct", "iterative", or "auto" (iterative from iterative_threshold dofs on).
-    std::string method = "direct";
-    std::size_t iterative_threshold = 0;
-    /// r/eta of the augmented-Lagrangian iteration.
-    double augmentation = 1e3;
-    /// Relative residual at which an iterative solve stops.
-    double iterative_tolerance = 1e-6;
-    /**
-     * The relative tolerance of an iterative solve of the Newton system at
-     * an iterate whose relative residual is @p relative_residual: with
-     * 'Inexact Newton', 0.1 x that, between 'Iterative tolerance' and
-     * 1e-2 (the inexact Newton method, Dembo, Eisenstat and Steihaug 1982:
-     * a step solved to a fraction eta of the residual keeps Newton's
-     * convergence superlinear when eta -> 0 with the residual, so the early
-     * steps need not be solved to the last digits); else 'Iterative
-     * tolerance'. Where @p penalty_factor exceeds 1e7, the factor 0.1 and
-     * 'Iterative tolerance' are both multiplied by 1e7 / @p penalty_factor
-     * (the carried pressure takes up lambda x the solve's residual).
-     * Given the last solve of this mesh (its tolerance @p previous_tolerance
-     * at the relative residual @p previous_residual; 0: none), a residual
-     * that grew gets no looser an absolute accuracy: tolerance x residual
-     * at most @p previous_tolerance x @p previous_residual (but never below
-     * the tightest tolerance).
-     */
-    double
-    forcing_tolerance(const double relative_residual,
-                      const double penalty_factor,
-                      const double previous_tolerance = 0,
-                      const double previous_residual  = 0) const;
-    bool inexact_newton = true;
-    /// Degree 2: the velocity block's cycle is PMultigrid (else AMG on the Q2 block).
-    bool p_multigrid = true;
-    /// Degree 2: 0 for one V-cycle on the velocity block, else the inner solve's tolerance.
-    double inner_tolerance = 0;
-    /// Divergence ratio at which the multiplier iteration stops.
-    double divergence_tolerance = 1e-7;
-
     /// What the solves did (the problem resets them per cycle).
     LinearSolverCounts counts;
-    /// "auto" (CHOLMOD where symmetric), "UMFPACK" (always LU).
-    std::string direct_solver = "auto";
 
   private:
     struct SuiteSparse;

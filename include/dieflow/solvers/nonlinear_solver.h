@@ -1,8 +1,9 @@
+// The nonlinear iteration: what it asks of a discrete system, Picard, Newton with a line search, their settings and their log.
 #ifndef dieflow_nonlinear_solver_h
 #define dieflow_nonlinear_solver_h
 
-#include <dieflow/flow/flow_assembler.h>
-#include <dieflow/parameters.h>
+#include <dieflow/solvers/linearization.h>
+#include <dieflow/base/parameters.h>
 
 #include <deal.II/lac/vector.h>
 
@@ -18,21 +19,6 @@ namespace dieflow
    * revises it from the current iterate and projects the iterate onto the
    * resulting constraints.
    */
-  /// How many contact directions changed state in an update.
-  struct StateChanges
-  {
-    /// Directions that entered or left contact (the active set).
-    unsigned int normal = 0;
-    /// Stick <-> slip, or a new slip direction.
-    unsigned int tangential = 0;
-
-    unsigned int
-    total() const
-    {
-      return normal + tangential;
-    }
-  };
-
   class NonlinearSystem
   {
   public:
@@ -211,8 +197,27 @@ namespace dieflow
                      const double                  residual) const;
 
   public:
-    std::string  method                     = "Newton";
-    std::string  newton_tangent             = "primal-dual";
+    enum class Method
+    {
+      newton,
+      picard,
+      picard_then_newton
+    };
+    /// The Newton tangent's form (FlowAssembler::Tangent).
+    enum class NewtonTangent
+    {
+      primal_dual,
+      standard
+    };
+    /// The deck's names of the methods ("Newton", "Picard", "Picard then
+    /// Newton") and tangents ("primal-dual", "standard").
+    static Method
+    method_named(const std::string &name);
+    static NewtonTangent
+    tangent_named(const std::string &name);
+
+    Method        method                    = Method::newton;
+    NewtonTangent newton_tangent            = NewtonTangent::primal_dual;
     unsigned int maximum_iterations         = 50;
     double       residual_tolerance         = 1e-8;
     double       update_tolerance           = 1e-8;

@@ -1,3 +1,4 @@
+// A two-level p-multigrid cycle for the Q2 velocity block: Chebyshev smoothing on Q2, one AMG V-cycle on the Q1 Galerkin operator.
 #ifndef dieflow_p_multigrid_h
 #define dieflow_p_multigrid_h
 

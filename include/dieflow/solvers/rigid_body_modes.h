@@ -1,3 +1,4 @@
+// The velocity's rigid-body motions at the nodes, and an ML smoothed-aggregation hierarchy with them as its near-null space.
 #ifndef dieflow_rigid_body_modes_h
 #define dieflow_rigid_body_modes_h
 

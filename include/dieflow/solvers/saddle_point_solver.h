@@ -1,7 +1,8 @@
+// The mixed form's update equation by block-preconditioned GMRES: a multigrid cycle for the velocity block, a scaled mass for the Schur complement.
 #ifndef dieflow_saddle_point_solver_h
 #define dieflow_saddle_point_solver_h
 
-#include <dieflow/flow/mixed_penalty.h>
+#include <dieflow/solvers/mixed_penalty.h>
 #include <dieflow/solvers/iterative_solver.h>
 #include <dieflow/solvers/p_multigrid.h>
 #include <dieflow/solvers/rigid_body_modes.h>
@@ -83,21 +84,18 @@ namespace dieflow
     void
     use_p_multigrid(const dealii::DoFHandler<dim> &dof_handler);
 
-    /// The constraints whose rows A has condensed (for p-multigrid).
-    const dealii::AffineConstraints<double> *constraints = nullptr;
-
-    /// The velocity A is the tangent at, for p-multigrid's near-null space
-    /// (PMultigrid::initialize()); none for a Newtonian material.
-    const dealii::Vector<double> *flow = nullptr;
-
     /**
      * Solves from du = dp = 0 until the scaled residual is below
      * @p tolerance times the scaled right-hand side; reports failure (no
      * exception) after @p max_iterations. @p symmetric: A = A^T (the inner
-     * solve may use CG).
+     * solve may use CG). @p constraints: those whose rows A has condensed,
+     * and @p flow: the velocity A is the tangent at, null for a Newtonian
+     * material (p-multigrid's near-null space, PMultigrid::initialize()).
      */
     Info
-    solve(const dealii::SparseMatrix<double> &A,
+    solve(const dealii::SparseMatrix<double> &       A,
+          const dealii::AffineConstraints<double> &  constraints,
+          const dealii::Vector<double> *             flow,
           const MixedPenalty<dim> &           blocks,
           const dealii::Vector<double> &      rhs_velocity,
           const dealii::Vector<double> &      rhs_pressure,

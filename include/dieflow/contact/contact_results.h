@@ -1,0 +1,47 @@
+// What the contact reports of a solution: node by node, and node counts by state.
+#ifndef dieflow_contact_results_h
+#define dieflow_contact_results_h
+
+#include <dieflow/base/parameters.h>
+#include <dieflow/contact/contact_element.h>
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+namespace dieflow
+{
+  using dealii::Tensor;
+
+  /// Node-wise results for the die-wall profiles and the checks.
+  template <int dim>
+  struct ContactNodeResult
+  {
+    dealii::Point<dim> position;
+    /// The triangulation's vertex (invalid at a degree-2 edge midpoint).
+    unsigned int       vertex;
+    BoundaryId         id;
+    Tensor<1, dim>     normal;
+    /// t (2D: the direction of the signed profile values; 3D: t_1).
+    Tensor<1, dim>     tangent;
+    /// The node's boundary weight (int phi dA) and its share of the wall's arc length (int phi ds).
+    double             weight, length;
+    ContactStatus      status;
+    /// F_n (<= 0 pressing), a nodal force, and v.n.
+    double normal_force, normal_rate;
+    /// The friction force (nodal, in the tangent plane) and the slip velocity.
+    Tensor<1, dim> friction_force, slip_velocity;
+    /// The normal reaction where separated (must vanish at equilibrium).
+    double free_reaction;
+    double friction_bound;
+  };
+
+  /// Node counts of the contact state.
+  struct ContactCounts
+  {
+    unsigned int separated = 0;
+    unsigned int stick     = 0;
+    unsigned int slip      = 0;
+  };
+} // namespace dieflow
+
+#endif

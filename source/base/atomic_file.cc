@@ -1,0 +1,42 @@
+// An output file that a reader sees whole or not at all: written under PATH.partial and renamed to PATH when complete.
+#include <dieflow/base/atomic_file.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+namespace dieflow
+{
+  AtomicFile::AtomicFile(const std::string &path)
+    : path(path)
+    , partial(path + ".partial")
+    , out(partial)
+  {}
+
+
+
+  AtomicFile::~AtomicFile()
+  {
+    if (!committed)
+      {
+        out.close();
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+      }
+  }
+
+
+
+  void
+  AtomicFile::commit()
+  {
+    out.close();
+    std::error_code error;
+    if (!out)
+      throw std::runtime_error("cannot write '" + path + "' (disk full, or the directory went away)");
+    std::filesystem::rename(partial, path, error);
+    if (error)
+      throw std::runtime_error("cannot rename '" + partial + "' to '" + path + "': " + error.message());
+    committed = true;
+  }
+} // namespace dieflow

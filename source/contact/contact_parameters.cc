@@ -1,0 +1,251 @@
+// The deck's Contact subsection: its entries, their checks, and the friction law of each die.
+#include <dieflow/contact/contact_parameters.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace dieflow
+{
+  void
+  ContactParameters::declare_parameters(ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Die ids",
+                      "3, 4",
+                      Anything(),
+                      "Boundary ids of the rigid die in unilateral contact with "
+                      "friction: v.n <= 0, F_n <= 0, F_n v.n = 0, Coulomb stick or "
+                      "slip. Empty: no contact (the friction entries are then "
+                      "ignored).");
+    prm.declare_entry("Normal enforcement",
+                      "active set",
+                      Selection("active set|penalty"),
+                      "active set: v.n = 0 exactly where the die presses (a "
+                      "primal-dual active set on the nodal contact pressure, as "
+                      "deal.II step-41/42). penalty: the paper's perturbed "
+                      "Lagrangian, F_n = -omega_n max(v.n, 0) (a small "
+                      "penetration rate, which falls as 1/omega_n).");
+    prm.declare_entry("Stick",
+                      "exact",
+                      Selection("exact|penalty"),
+                      "exact: a sticking node is held at rest by the constraint "
+                      "v.t = 0, and its friction force is the reaction (a "
+                      "primal-dual active set for the tangential direction too). "
+                      "penalty: the paper's F_t = -omega_t v_t (eq. (16)), see "
+                      "Tangential penalty factor; always so with the penalty normal "
+                      "enforcement.");
+    prm.declare_entry("Friction law",
+                      "Coulomb",
+                      Selection("Coulomb|Tresca|regularised Coulomb"),
+                      "Coulomb: |F_t| <= mu |F_n| (stick below, slip at the bound). "
+                      "Tresca: |tau| <= m k. regularised Coulomb: tau = -mu |sigma_n| "
+                      "(2/pi) atan(v_t / v0), smooth, without stick.");
+    prm.declare_entry("Friction coefficients",
+                      "3: 0.001, 4: 0.1",
+                      Anything(),
+                      "Coulomb coefficient mu per die id, as 'id: mu, id: mu' "
+                      "(die2d: '3: 0.001, 4: 0.1'); ids not listed are frictionless.");
+    prm.declare_entry("Tresca friction factors",
+                      "",
+                      Anything(),
+                      "Tresca factor m in [0, 1] per die id, 'id: m, ...'; the wall "
+                      "shear stress is at most m k.");
+    prm.declare_entry("Shear flow stress",
+                      "0",
+                      Double(0),
+                      "k (MPa) of the Tresca law: the shear flow stress of the "
+                      "metal, sigma_0 / sqrt(3).");
+    prm.declare_entry("Normal penalty factor",
+                      "1",
+                      Double(0),
+                      "omega_n = factor x lambda (per unit boundary weight in 2D), "
+                      "lambda the incompressibility penalty, for Normal "
+                      "enforcement = penalty: the die pushes back with "
+                      "F_n = -omega_n v.n where the metal penetrates at v.n > 0.");
+    prm.declare_entry("Tangential penalty factor",
+                      "100",
+                      Double(0),
+                      "omega_t = factor x lambda: the stick law F_t = -omega_t v_t "
+                      "of the paper (eq. (16)). Sticking nodes slip at |F_t| / "
+                      "omega_t, which the incompressibility penalty turns into a "
+                      "pressure disturbance of about 1/factor of the wall shear; "
+                      "hence a multiple of lambda.");
+    prm.declare_entry("Regularisation velocity",
+                      "1",
+                      Double(0),
+                      "v0 (mm/s) of the regularised Coulomb law.");
+    prm.declare_entry("Active set constant",
+                      "1",
+                      Double(0),
+                      "c = constant x eta_m / h in the active-set rule p + c v.n > 0.");
+    prm.declare_entry("Die surfaces",
+                      "",
+                      Anything(),
+                      "Dies given on their own, as 'id: file, ...': a Gmsh surface "
+                      "mesh (lines in 2D; triangles or quadrilaterals in 3D, the "
+                      "latter split in two) per die id. Each wall node of that id "
+                      "takes its master facet and normal from the surface by the "
+                      "node-to-facet search (doc/three-dimensional.md) instead of "
+                      "from the metal's mesh; the metal's die boundary must lie on "
+                      "the surface (within 1e-6 of its size). A relative path is "
+                      "relative to the deck's directory. Empty: the dies are the "
+                      "mesh's boundary faces.");
+    prm.declare_entry("Die velocities",
+                      "",
+                      Anything(),
+                      "Dies that move, as 'id: vx vy' (3D: 'id: vx vy vz'), mm/s: a "
+                      "rigid translation. The contact conditions hold for the "
+                      "velocity relative to the die (v - V).n <= 0, the friction "
+                      "opposes the slip (v - V).t, and a sticking node moves with "
+                      "the die. In Problem = incremental the die moves by V dt per "
+                      "step (it may drive the flow without a prescribed-velocity "
+                      "part: a platen, a punch); in a steady run only along its "
+                      "own surface (V.n = 0: a belt, a moving mandrel). Ids not "
+                      "listed are at rest.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ContactParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    die_ids            = parse_id_list("Contact/Die ids", prm.get("Die ids"));
+    normal_enforcement = prm.get("Normal enforcement") == "penalty" ? NormalEnforcement::penalty : NormalEnforcement::active_set;
+    stick_enforcement  = prm.get("Stick") == "penalty" ? StickEnforcement::penalty : StickEnforcement::exact;
+    const std::string law_name = prm.get("Friction law");
+    law = (law_name == "Coulomb") ? FrictionLaw::Kind::coulomb :
+          (law_name == "Tresca")  ? FrictionLaw::Kind::tresca :
+                                    FrictionLaw::Kind::regularised_coulomb;
+    friction_coefficient.clear();
+    for (const auto &[id, mu] : parse_id_value_map("Contact/Friction coefficients", prm.get("Friction coefficients")))
+      {
+        require(mu >= 0,
+                "Contact/Friction coefficients",
+                "mu of id " + std::to_string(id) + " must not be negative");
+        require(die_ids.empty() || die_ids.count(id),
+                "Contact/Friction coefficients",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        friction_coefficient[id] = mu;
+      }
+    tresca_factor.clear();
+    for (const auto &[id, m] : parse_id_value_map("Contact/Tresca friction factors", prm.get("Tresca friction factors")))
+      {
+        require(m >= 0 && m <= 1,
+                "Contact/Tresca friction factors",
+                "m of id " + std::to_string(id) + " must lie in [0, 1]");
+        require(die_ids.empty() || die_ids.count(id),
+                "Contact/Tresca friction factors",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        tresca_factor[id] = m;
+      }
+    shear_flow_stress         = prm.get_double("Shear flow stress");
+    normal_penalty_factor     = prm.get_double("Normal penalty factor");
+    tangential_penalty_factor = prm.get_double("Tangential penalty factor");
+    regularisation_velocity   = prm.get_double("Regularisation velocity");
+    active_set_constant       = prm.get_double("Active set constant");
+    die_surface_files.clear();
+    for (const auto &[id, file] : parse_id_text_map("Contact/Die surfaces", prm.get("Die surfaces")))
+      {
+        require(die_ids.count(id),
+                "Contact/Die surfaces",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        die_surface_files[id] = file;
+      }
+    die_velocities.clear();
+    for (const auto &[id, text] : parse_id_text_map("Contact/Die velocities", prm.get("Die velocities")))
+      {
+        require(die_ids.count(id),
+                "Contact/Die velocities",
+                "id " + std::to_string(id) + " is not listed under Die ids");
+        std::vector<double> components;
+        for (const std::string &word : dealii::Utilities::split_string_list(text, ' '))
+          {
+            if (word.empty())
+              continue;
+            char *       end   = nullptr;
+            const double value = std::strtod(word.c_str(), &end);
+            require(end != word.c_str() && *end == '\0' && std::isfinite(value),
+                    "Contact/Die velocities",
+                    "'" + word + "' (id " + std::to_string(id) + ") is not a number");
+            components.push_back(value);
+          }
+        die_velocities[id] = components;
+      }
+    require(!(uses_penalty() && normal_penalty_factor <= 0 && !die_ids.empty()),
+            "Contact/Normal penalty factor",
+            "must be positive for Normal enforcement = penalty");
+    require(!(law == FrictionLaw::Kind::regularised_coulomb && regularisation_velocity <= 0),
+            "Contact/Regularisation velocity",
+            "must be positive for the regularised Coulomb law");
+    prm.leave_subsection();
+  }
+
+
+
+  std::vector<std::string>
+  ContactParameters::settling_changes() const
+  {
+    // Only what the deck does not say already: a smooth or pressure-free
+    // law has no stick/slip switch to cycle on.
+    const auto any_positive = [](const std::map<BoundaryId, double> &values) {
+      return std::any_of(values.begin(), values.end(), [](const auto &v) { return v.second > 0; });
+    };
+    std::vector<std::string> changes;
+    switch (law)
+      {
+        case FrictionLaw::Kind::coulomb:
+          changes.emplace_back("set Contact/Friction law = Tresca or regularised Coulomb");
+          if (any_positive(friction_coefficient))
+            changes.emplace_back("lower Contact/Friction coefficients");
+          break;
+        case FrictionLaw::Kind::tresca:
+          changes.emplace_back("set Contact/Friction law = regularised Coulomb");
+          if (any_positive(tresca_factor))
+            changes.emplace_back("lower Contact/Tresca friction factors");
+          break;
+        case FrictionLaw::Kind::regularised_coulomb:
+          changes.emplace_back("raise Contact/Regularisation velocity (it is " + deck_number(regularisation_velocity) +
+                               ")");
+          if (any_positive(friction_coefficient))
+            changes.emplace_back("lower Contact/Friction coefficients");
+          break;
+      }
+    return changes;
+  }
+
+
+
+  double
+  ContactParameters::friction_coefficient_of(const BoundaryId id) const
+  {
+    const auto it = friction_coefficient.find(id);
+    return it == friction_coefficient.end() ? 0. : it->second;
+  }
+
+
+
+  FrictionLaw
+  ContactParameters::law_of(const BoundaryId id, const double weight) const
+  {
+    FrictionLaw friction;
+    friction.kind        = law;
+    friction.mu          = friction_coefficient_of(id);
+    const auto m         = tresca_factor.find(id);
+    friction.shear_bound = (m == tresca_factor.end() ? 0. : m->second) * shear_flow_stress * weight;
+    return friction;
+  }
+
+
+
+  bool
+  ContactParameters::frictionless(const BoundaryId id) const
+  {
+    return law_of(id, 1.).frictionless();
+  }
+} // namespace dieflow

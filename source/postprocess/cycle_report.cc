@@ -1,0 +1,227 @@
+// The report of a converged cycle: forces, fluxes, checks, errors, quantities of interest and the output files, from a read-only view of the solution.
+#include <dieflow/base/parameters.h>
+#include <dieflow/base/serialization.h>
+#include <dieflow/flow/pressure_projection.h>
+#include <dieflow/mesh/refinement.h>
+#include <dieflow/postprocess/contact_output.h>
+#include <dieflow/postprocess/cycle_report.h>
+#include <dieflow/postprocess/goal_estimate.h>
+#include <dieflow/postprocess/mass_balance.h>
+#include <dieflow/postprocess/postprocess.h>
+#include <dieflow/postprocess/vertex_stress.h>
+
+#include <deal.II/grid/grid_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+
+namespace dieflow
+{
+  namespace
+  {
+    /// Symmetry lines, slip walls and the dies without friction.
+    template <int dim>
+    std::set<BoundaryId>
+    frictionless_walls(const SolutionView<dim> &view)
+    {
+      std::set<BoundaryId> ids = view.boundary_conditions.wall_ids();
+      for (const BoundaryId id : view.contact.get_parameters().die_ids)
+        if (view.contact.frictionless(id))
+          ids.insert(id);
+      return ids;
+    }
+
+    /// The dies' shares of the nodes they share with prescribed-velocity
+    /// parts, into the die normal and friction forces of @p summary.
+    template <int dim>
+    void
+    add_die_shares(const std::set<BoundaryId> &       die_ids,
+                   const std::vector<WallShare<dim>> &shares,
+                   const std::set<BoundaryId> &       frictionless,
+                   CycleSummary &                     summary)
+    {
+      // The node belongs to the prescribed part, not to the contact set, but
+      // the die carries its share of it: |f.n| and |f - (f.n) n|, as the
+      // contact nodes' forces are counted.
+      for (const auto &share : shares)
+        if (die_ids.count(share.id) && share.normal.norm_square() > 0)
+          {
+            const double normal = share.force * share.normal;
+            summary.die_normal_force[share.id] += std::abs(normal);
+            if (!frictionless.count(share.id))
+              summary.die_friction_force[share.id] += (share.force - normal * share.normal).norm();
+          }
+    }
+
+    /// Volume per unit time through the parts other than the dies: the larger of inflow and outflow.
+    double
+    throughput(const std::set<BoundaryId> &die_ids, const std::map<BoundaryId, double> &flux)
+    {
+      // A ram pushes the metal in, a drawing pull takes it out through a
+      // prescribed outlet while the inlet is free.
+      double inflow = 0, outflow = 0;
+      for (const auto &[id, q] : flux)
+        if (!die_ids.count(id))
+          (q < 0 ? inflow : outflow) += std::abs(q);
+      return std::max(inflow, outflow);
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  CycleReport<dim>::CycleReport(const ReportSettings<dim> &settings, std::ostream &log)
+    : settings(settings)
+    , log(log)
+  {}
+
+
+
+  template <int dim>
+  void
+  CycleReport<dim>::report(const SolutionView<dim> &view,
+                           const bool               write_fields_now,
+                           const double             record_time,
+                           CycleSummary &           summary)
+  {
+    const auto &                dof_handler   = view.dof_handler;
+    const auto &                triangulation = dof_handler.get_triangulation();
+    const auto &                coordinates   = view.coordinates;
+    const auto &                velocity      = view.velocity;
+    const auto &                contact       = view.contact;
+    const std::set<BoundaryId> &die_ids       = contact.get_parameters().die_ids;
+    summary.cells         = triangulation.n_active_cells();
+    summary.dofs          = dof_handler.n_dofs();
+    summary.flux          = boundary_fluxes(coordinates, dof_handler, velocity);
+    summary.boundary_area = boundary_areas(coordinates, dof_handler);
+
+    // Reactions of the converged state, with hanging nodes' shares moved to
+    // the vertices they hang from.
+    Vector<double> unused, reactions;
+    view.flow.assemble_residual(dof_handler, velocity, view.terms, view.update_constraints, unused, reactions);
+    view.hanging_node_constraints.condense(reactions);
+    std::vector<WallShare<dim>> wall_shares;
+    const auto                  frictionless = frictionless_walls(view);
+    summary.boundary_force                   = boundary_forces(
+      coordinates, dof_handler, reactions, view.boundary_conditions, view.wall_nodes, frictionless, &wall_shares);
+    summary.divergence_ratio = divergence_ratio(coordinates, dof_handler, velocity);
+    summary.mass_balance     = mass_balance(coordinates, dof_handler, velocity, summary.flux);
+    summary.penalty          = view.incompressibility.penalty();
+    summary.mean_viscosity   = view.incompressibility.viscosity_scale();
+    summary.error_estimate   = kelly_estimate(dof_handler, velocity);
+    if (settings.dual_weighted_estimate)
+      {
+        const auto goal = dual_weighted_force_error(dof_handler, view.hanging_node_constraints, velocity, view.flow,
+                                                    view.terms, view.material, contact, view.boundary_conditions,
+                                                    die_ids, settings.goal_part);
+        summary.dual_weighted_error = goal.error;
+        log << "  dual-weighted estimate: F_x[" << settings.goal_part << "] exact - computed = " << std::setprecision(3)
+            << goal.error << " (velocity part " << goal.velocity_part << ", pressure part " << goal.pressure_part
+            << "; dual problem " << goal.dual_dofs << " dofs)" << std::endl;
+      }
+    summary.die_cell_share = share_of_cells_at(triangulation, die_ids);
+    if (settings.exact_velocity != nullptr)
+      {
+        const auto errors         = velocity_errors(dof_handler, velocity, *settings.exact_velocity);
+        summary.velocity_l2_error = errors.first;
+        summary.velocity_h1_error = errors.second;
+      }
+
+    std::map<std::string, Vector<double>> nodal_fields, cell_fields;
+    if (view.equivalent_strain != nullptr)
+      cell_fields["equivalent_strain"] = *view.equivalent_strain;
+    // The pressure is recovered once, for the degree-1 die profiles and the
+    // fields.
+    const bool     recover_profiles = !contact.empty() && dof_handler.get_fe().degree == 1;
+    Vector<double> pressure;
+    if (recover_profiles || write_fields_now)
+      {
+        pressure = view.incompressibility.cell_pressures(velocity);
+        ++summary.pressure_recoveries;
+      }
+    if (!contact.empty())
+      {
+        const auto results = contact.results(velocity);
+        summarise_contact(contact, results, velocity.linfty_norm(), summary);
+        add_die_shares(die_ids, wall_shares, frictionless, summary);
+        const auto stress = recover_profiles ?
+                              vertex_stresses(coordinates, dof_handler, velocity, view.material, pressure) :
+                              std::vector<dealii::SymmetricTensor<2, dim>>();
+        write_die_profiles(die_ids, results, recover_profiles ? &stress : nullptr, settings.output_directory);
+        nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
+        const double flow_through     = throughput(die_ids, summary.flux);
+        for (const BoundaryId id : die_ids)
+          if (std::abs(summary.flux[id]) > 1e-6 * flow_through)
+            log << "  flux through die id " << id << ": " << std::setprecision(4) << summary.flux[id] << " ("
+                << 100. * std::abs(summary.flux[id]) / flow_through << "% of the throughput): "
+                << (summary.flux[id] < 0 ? "the metal leaves the wall there (separated), see doc/contact.md" :
+                                           "penetration")
+                << std::endl;
+      }
+    for (const BoundaryId id : view.boundary_conditions.velocity_ids)
+      summary.quantities.emplace_back("F_x[" + std::to_string(id) + "]", summary.boundary_force.at(id)[0]);
+    for (const BoundaryId id : die_ids)
+      {
+        summary.quantities.emplace_back("F_n[" + std::to_string(id) + "]", summary.die_normal_force[id]);
+        summary.quantities.emplace_back("F_t[" + std::to_string(id) + "]", summary.die_friction_force[id]);
+      }
+    if (settings.probe)
+      {
+        dealii::Vector<double> value(dim);
+        try
+          {
+            dealii::VectorTools::point_value(dof_handler, velocity, *settings.probe, value);
+          }
+        catch (const std::exception &)
+          {
+            throw InputError("Refinement/Probe point: the point is not in the mesh");
+          }
+        summary.quantities.emplace_back("v_x(probe)", value[0]);
+      }
+
+    if (write_fields_now)
+      write_fields(coordinates,
+                   dof_handler,
+                   velocity,
+                   view.material,
+                   pressure,
+                   nodal_fields,
+                   cell_fields,
+                   settings.output_directory,
+                   summary.cycle,
+                   record_time,
+                   settings.write_vtu,
+                   settings.write_gnuplot,
+                   pvd_records);
+    if (settings.write_mesh_svg)
+      {
+        std::ofstream svg(settings.output_directory + "/mesh-" + dealii::Utilities::int_to_string(summary.cycle, 2) +
+                          ".svg");
+        dealii::GridOut().write_svg(triangulation, svg);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  CycleReport<dim>::save(OutputArchive &ar) const
+  {
+    ar << pvd_records;
+  }
+
+
+
+  template <int dim>
+  void
+  CycleReport<dim>::load(InputArchive &ar)
+  {
+    ar >> pvd_records;
+  }
+
+  template class CycleReport<2>;
+  template class CycleReport<3>;
+} // namespace dieflow

@@ -1,0 +1,62 @@
+// The die-flow problem's steady free surface: moved onto the streamlines of the solution and solved again until it settles.
+#include <dieflow/mesh/mesh_motion.h>
+#include <dieflow/problem/problem.h>
+
+#include <iomanip>
+
+namespace dieflow
+{
+  template <int dim>
+  NonlinearResult
+  DieFlowProblem<dim>::settle_free_surface(NonlinearResult result, CycleSummary &cycle)
+  {
+    if constexpr (dim == 2)
+      {
+        FreeSurfaceRecord record;
+        free_surface.new_mesh();
+        while (result.converged)
+          {
+            const bool      last = record.moves == parameters.free_surface.iterations;
+            FreeSurfaceMove move;
+            {
+              dealii::TimerOutput::Scope scope(timer, "mesh motion");
+              move = free_surface.move(triangulation, dof_handler, velocity, contact.results(velocity), !last);
+            }
+            record.largest_move = move.largest;
+            record.free_faces   = move.free_faces;
+            log << "  free surface: largest move " << std::setprecision(3) << move.largest << " of an edge, "
+                << move.free_faces << " free faces (" << move.let_go << " let go by the dies, " << move.reattached
+                << " back on them)" << std::setprecision(6) << std::endl;
+            record.settled = move.largest <= parameters.free_surface.tolerance;
+            if (record.settled)
+              break;
+            if (last)
+              {
+                result.converged = false;
+                result.failure   = "the free surface did not settle in " + std::to_string(record.moves) +
+                                 " moves (the last would move a node " + deck_number(move.largest) +
+                                 " of its edge): raise Free surface/Iterations or Tolerance";
+                break;
+              }
+            ++record.moves;
+            require(smallest_scaled_jacobian(triangulation) > 0,
+                    "Free surface/Iterations",
+                    "the free surface's move tangled the mesh (a cell turned inside out): refine the mesh where the metal "
+                    "leaves the die, or use Problem = incremental");
+            states_from_previous_mesh = true;
+            setup_system();
+            NonlinearResult next = parameters.nonlinear_solver.solve(*this, velocity, log);
+            next.iterations += result.iterations;
+            next.linear_solves += result.linear_solves;
+            result = next;
+          }
+        cycle.free_surface = record;
+      }
+    return result;
+  }
+
+  template NonlinearResult
+  DieFlowProblem<2>::settle_free_surface(NonlinearResult, CycleSummary &);
+  template NonlinearResult
+  DieFlowProblem<3>::settle_free_surface(NonlinearResult, CycleSummary &);
+} // namespace dieflow

@@ -1,0 +1,260 @@
+// The die-flow problem as Newton's method sees it: the state update, the assembly, the solve and the step of one iteration, and the Newtonian start.
+#include <dieflow/problem/problem.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+
+namespace dieflow
+{
+  template <int dim>
+  StateChanges
+  DieFlowProblem<dim>::update_state(Vector<double> &v)
+  {
+    incompressibility.before_state_update(v);
+    const Vector<double> before = v;
+    StateChanges         changes;
+    // The first iterate of a refined mesh is the previous solution
+    // interpolated, not in equilibrium on the new mesh: its reactions say
+    // nothing about the contact states, which it keeps from the previous
+    // mesh for its first solve.
+    if (!contact.empty() && contact_states_valid && !states_from_previous_mesh)
+      {
+        dealii::TimerOutput::Scope scope(timer, "contact");
+        changes = contact.update(v, system.nodal_flow_residual(v, flow_terms(), hanging_node_constraints), log);
+        // Contact and exact stick are constraints.
+        if (changes.total() > 0)
+          make_constraints();
+      }
+    states_from_previous_mesh = false;
+    constraints.distribute(v);
+    incompressibility.after_projection(before, v);
+    return changes;
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::assemble_system(const Vector<double> &v, const Linearization linearization)
+  {
+    dealii::TimerOutput::Scope scope(timer, "assembly");
+    incompressibility.prepare_assembly(v, linearization);
+    const FlowTerms<dim> terms = flow_terms();
+    matrix_symmetric           = system.assemble(v, terms, linearization, &system_matrix, system_rhs).symmetric;
+    last_roundoff_bound        = system.roundoff_bound(system_matrix, v, terms.mixed);
+    return system.relative_residual(system_rhs);
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::residual(const Vector<double> &v, Vector<double> &minus_residual)
+  {
+    dealii::TimerOutput::Scope scope(timer, "assembly");
+    system.assemble(v, flow_terms(), Linearization::picard, nullptr, minus_residual);
+    return system.relative_residual(minus_residual);
+  }
+
+
+
+  template <int dim>
+  bool
+  DieFlowProblem<dim>::reassemble_penalty_form(const Vector<double> &v,
+                                               const Linearization   linearization,
+                                               const FlowTerms<dim> &terms)
+  {
+    FlowTerms<dim> with_hardening = terms;
+    with_hardening.hardening      = incremental.hardening();
+    matrix_symmetric              = system.assemble(v, with_hardening, linearization, &system_matrix, system_rhs).symmetric;
+    return matrix_symmetric;
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::solve(Vector<double> &update, const double relative_residual)
+  {
+    dealii::TimerOutput::Scope scope(timer, "linear solve");
+    incompressibility.solve(system_matrix,
+                            matrix_symmetric,
+                            system_rhs,
+                            update_constraints,
+                            update,
+                            relative_residual,
+                            residual_floor(),
+                            velocity,
+                            [this](const Vector<double> &v, const Linearization linearization, const FlowTerms<dim> &terms) {
+                              return reassemble_penalty_form(v, linearization, terms);
+                            });
+    update_constraints.distribute(update);
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::set_trial_step(const double step)
+  {
+    incompressibility.set_trial_step(step);
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::accept_step(const Vector<double> &v,
+                                   const Vector<double> &update,
+                                   const double          step,
+                                   const Linearization   linearization)
+  {
+    contact_states_valid = true;
+    incompressibility.accept(step);
+    if (linearization == Linearization::newton)
+      assembler.update_dual(dof_handler, v, &update, step);
+    else
+      {
+        Vector<double> next = v;
+        next.add(step, update);
+        assembler.update_dual(dof_handler, next, nullptr, 0);
+      }
+  }
+
+
+
+  template <int dim>
+  bool
+  DieFlowProblem<dim>::is_linear() const
+  {
+    // The augmented Lagrangian iterates on its multiplier; the mixed form's
+    // Krylov solves are inexact.
+    return parameters.material.is_newtonian() && contact.empty() && incompressibility.is_exact();
+  }
+
+
+
+  template <int dim>
+  double
+  DieFlowProblem<dim>::residual_floor() const
+  {
+    // The cancellation in lambda div v, or the round-off bound of the last
+    // assembly where it is larger (SystemAssembler::roundoff_bound()).
+    return std::max(incompressibility.cancellation_floor(), last_roundoff_bound);
+  }
+
+
+
+  template <int dim>
+  bool
+  DieFlowProblem<dim>::constraints_settled() const
+  {
+    return incompressibility.settled(velocity);
+  }
+
+
+
+  template <int dim>
+  std::vector<std::string>
+  DieFlowProblem<dim>::contact_changes() const
+  {
+    std::vector<std::string> changes = parameters.contact.settling_changes();
+    changes.insert(changes.begin(), "refine the mesh at the die");
+    return changes;
+  }
+
+
+
+  template <int dim>
+  std::vector<std::string>
+  DieFlowProblem<dim>::law_changes() const
+  {
+    return parameters.material.range_changes();
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::newtonian_start()
+  {
+    const Material &material = parameters.material;
+    // The velocity of a Newtonian, velocity-driven problem does not depend on
+    // the viscosity's value; the law's viscosity at a typical strain rate
+    // keeps forces and tractions (body force, Tresca) on the right scale.
+    prescribed_speed      = parameters.boundary_conditions.largest_prescribed_speed(dof_handler);
+    double reference_rate = material.reference_strain_rate;
+    if (reference_rate == 0)
+      {
+        const double diameter = dealii::GridTools::diameter(triangulation);
+        reference_rate        = prescribed_speed / diameter;
+        if (reference_rate == 0)
+          reference_rate = 1;
+      }
+    const double start_viscosity = material.evaluate(reference_rate).eta;
+    velocity.reinit(dof_handler.n_dofs());
+    constraints.distribute(velocity);
+    if (material.is_newtonian())
+      {
+        // The law is the Newtonian problem: the nonlinear solver's first
+        // step solves it.
+        incompressibility.set_viscosity_scale(start_viscosity);
+        contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity);
+        log << "  " << incompressibility.name() << " = " << incompressibility.factor() << " x viscosity "
+            << start_viscosity << " = " << incompressibility.penalty() << " MPa s" << std::endl;
+        incompressibility.uniform_cell_penalty(incompressibility.penalty());
+        return;
+      }
+
+    Material newtonian = material;
+    newtonian.set_newtonian(start_viscosity);
+    FlowAssembler<dim> start(newtonian, nullptr);
+    start.copy_loads(assembler);
+    const double start_penalty = incompressibility.factor() * start_viscosity;
+    contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity);
+    {
+      dealii::TimerOutput::Scope scope(timer, "assembly");
+      const FlowTerms<dim>       terms = incompressibility.start_terms(start_penalty, velocity);
+      matrix_symmetric =
+        system.assemble(start, velocity, terms, Linearization::picard, &system_matrix, system_rhs).symmetric;
+    }
+    Vector<double> update;
+    solve(update, 0);
+    velocity += update;
+    ++start_solves;
+    const double mean_viscosity = assembler.mean_viscosity(dof_handler, velocity);
+    incompressibility.finish_start(start_penalty, mean_viscosity, velocity);
+    contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity);
+    contact_states_valid = true;
+    log << "  Newtonian start: eta = " << std::setprecision(4) << start_viscosity << " MPa s; "
+        << incompressibility.name() << " = " << incompressibility.factor() << " x mean viscosity " << mean_viscosity
+        << " = " << incompressibility.penalty() << " MPa s" << std::endl;
+  }
+
+#define DIEFLOW_INSTANTIATE(dim)                                                                                       \
+  template StateChanges DieFlowProblem<dim>::update_state(Vector<double> &);                                           \
+  template double       DieFlowProblem<dim>::assemble_system(const Vector<double> &, const Linearization);              \
+  template double       DieFlowProblem<dim>::residual(const Vector<double> &, Vector<double> &);                       \
+  template bool         DieFlowProblem<dim>::reassemble_penalty_form(const Vector<double> &,                          \
+                                                             const Linearization,                                      \
+                                                             const FlowTerms<dim> &);                                  \
+  template void         DieFlowProblem<dim>::solve(Vector<double> &, const double);                                    \
+  template void         DieFlowProblem<dim>::set_trial_step(const double);                                             \
+  template void         DieFlowProblem<dim>::accept_step(const Vector<double> &,                                       \
+                                                 const Vector<double> &,                                               \
+                                                 const double,                                                         \
+                                                 const Linearization);                                                 \
+  template bool         DieFlowProblem<dim>::is_linear() const;                                                        \
+  template double       DieFlowProblem<dim>::residual_floor() const;                                                   \
+  template bool         DieFlowProblem<dim>::constraints_settled() const;                                              \
+  template std::vector<std::string> DieFlowProblem<dim>::contact_changes() const;                                      \
+  template std::vector<std::string> DieFlowProblem<dim>::law_changes() const;                                          \
+  template void                     DieFlowProblem<dim>::newtonian_start();
+
+  DIEFLOW_INSTANTIATE(2)
+  DIEFLOW_INSTANTIATE(3)
+#undef DIEFLOW_INSTANTIATE
+} // namespace dieflow
