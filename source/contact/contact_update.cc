@@ -95,10 +95,9 @@ namespace dieflow
     // slipping wall's share is its law's force; the rest falls on the
     // walls that stick, split in proportion to their bounds mu |F_n|, so
     // that each stays within its bound exactly when the node's friction
-    // stays within their sum. Handing each sticking wall all of R_t (as
-    // before) counted it twice in the die forces (tests/couette3d_edge_stick:
-    // 1.0625 for 1 on each die), and the wall with the smaller bound left
-    // its cone first.
+    // stays within their sum. Handing each sticking wall all of R_t would
+    // count it twice in the die forces (tests/couette3d_edge_stick), and
+    // the wall with the smaller bound would leave its cone first.
     double bound_sum = 0;
     int    n_sticking = 0;
     for (unsigned int k = 0; k < node.directions.size(); ++k)
@@ -147,9 +146,9 @@ namespace dieflow
     // is also at most c times 1e-7 of the largest speed, so that no
     // separated direction penetrates faster than that: the nodal forces
     // (~h^2) of a fine land are far below the largest one, and 1e-6 of it
-    // let nodes of the round bar's land run into the die at 2e-5 of the
-    // speed. (In 2D that bound changed the states of three stress cases and
-    // broke the upsetting deck's settling: the force band alone is kept.)
+    // let the land's nodes run into the die. (In 2D that bound changed the
+    // settled states of stress cases: the force band alone is kept;
+    // doc/benchmarks.md, "Figures behind the code's rules".)
     std::vector<std::vector<double>> all_forces(nodes.size());
     std::vector<std::vector<Slip>>   all_stick_forces(nodes.size());
     largest_speed = v.linfty_norm();
@@ -230,10 +229,9 @@ namespace dieflow
         // sticking wall's share of its friction leaves its cone (then
         // every wall slips, the way that wall's reaction pushes), and
         // otherwise stays at rest (every wall sticks). Left to their own
-        // test, the walls traded stick and slip every iteration (|F_t| =
-        // mu |F_n| with no slip is a tie): 16 x 8 cells of
-        // parameters/rectbar3d.prm, 23-35 such swaps per iteration at a
-        // residual of 1e-8, Newton not converged in 50 iterations; now 16.
+        // test, the walls trade stick and slip every iteration (|F_t| =
+        // mu |F_n| with no slip is a tie), and Newton does not converge
+        // (doc/benchmarks.md, "Figures behind the code's rules").
         bool                      held_at_rest = false, rest_holds = true;
         std::optional<Tensor<1, dim>> release_direction;
         for (const Direction &dir : node.directions)
@@ -280,11 +278,10 @@ namespace dieflow
                 multiplier_bound = law.bound(dir.normal_force);
                 // A tie in 3D: once Newton no longer moves the solution, a
                 // node exactly on the cone with no slip (|F_t| = mu |F_n|
-                // to 1e-19 of the largest force; the rectangular bar's
-                // slipping nodes whose slip rate is zero) keeps its state;
-                // it otherwise flips between stick and slip on round-off,
-                // at random, so that the cycle test never sees a state
-                // return (7 nodes; 50 iterations with the update at 1e-13).
+                // to round-off) keeps its state; it otherwise flips between
+                // stick and slip on round-off, at random, so that the cycle
+                // test never sees a state return and Newton runs to its
+                // limit (doc/benchmarks.md).
                 // 2D keeps its rule: applied there from the first
                 // iteration, or with a band of 1e-6, it changed the states
                 // of the 2D stress cases.

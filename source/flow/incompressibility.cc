@@ -284,7 +284,8 @@ namespace dieflow
     last_mixed_residual            = relative_residual;
     // At the floor also where the residual stopped falling while the
     // velocity stopped moving: residual_floor() is a fit, and a larger
-    // mesh at a large penalty can stall above it (doc/formulation.md).
+    // mesh at a large penalty can stall above it (doc/benchmarks.md,
+    // "Figures behind the code's rules").
     const bool stalled = relative_residual > 0.5 * previous_residual && last_mixed_update <= 1e-8;
     if (last_mixed_tolerance > 0 && (relative_residual <= residual_floor || stalled))
       {
@@ -321,7 +322,7 @@ namespace dieflow
     // A solve that stopped at its iteration limit having reduced its
     // residual tenfold is still a descent step of an inexact Newton method
     // (forcing term 0.1); where the direct fallback would not fit, taking it
-    // beats stopping (doc/benchmarks.md).
+    // beats stopping (doc/benchmarks.md, "Figures behind the code's rules").
     const bool partial_step = !info.converged && info.residual_reduction <= 0.1 &&
                               !LinearSolver::direct_fallback_fits(dim, matrix.m());
     linear_solver.counts.add_block_solve(info.iterations, info.inner_iterations, info.residual_reduction, partial_step);
@@ -348,7 +349,7 @@ namespace dieflow
     // step s then carries (1 - s) q, where q = 0 left lambda P div of the
     // contact projections' moves in the pressure, a residual some 1e9 too
     // large that turned the line search and the Picard step that followed
-    // into a divergence (doc/formulation.md).
+    // into a divergence (doc/benchmarks.md, "Figures behind the code's rules").
     LinearSolver::require_direct_fallback_fits(dim, matrix.m());
     ++linear_solver.counts.direct_fallbacks;
     FlowTerms<dim> penalty_form;

@@ -257,8 +257,8 @@ namespace dieflow
       }
 
     // A damped fixed point: the first streamlines of a domain the metal
-    // does not fill can be far from the last (2.5 edges at die2d's exit),
-    // and the interior's move must not turn cells inside out.
+    // does not fill can be edges away from the last, and the interior's
+    // move must not turn cells inside out.
     if (result.largest > largest_step)
       for (auto &[vertex, p] : placed)
         p = x[vertex] + largest_step / result.largest * (p - x[vertex]);

@@ -202,8 +202,9 @@ namespace dieflow
       // chord than a twentieth of it: a vertex crowded into a corner stands
       // a millionth over it, the corner of a fold (the ring's free side
       // folding onto the platen) a tenth or more, and the fold is the shape
-      // of the metal, not a crowding (dropped, it took 3.3e-4 of the ring's
-      // volume and the run stopped at the next contact update).
+      // of the metal, not a crowding (dropped, it took some of the ring's
+      // volume and the run stopped at the next contact update;
+      // doc/benchmarks.md).
       const auto cost = [&](const unsigned int p, const unsigned int q, const unsigned int r) {
         const dealii::Tensor<1, 2> u = x[q] - x[p], w = x[r] - x[q];
         const double               turn  = u[0] * w[1] - u[1] * w[0];
@@ -484,12 +485,11 @@ namespace dieflow
   {
     if constexpr (dim == 2)
       {
-        // Gmsh's cells can come out tangled (in the extrusion start with
-        // dt 0.1 ms, at step 114, 3 of 13038 went round the other way), or
-        // Gmsh can fail to recover a boundary edge: then Gmsh meshes again,
-        // with another algorithm, and last with every boundary edge a line
-        // of its own, split at its midpoint (which keeps the boundary twice
-        // as fine: four times the cells).
+        // Gmsh's cells can come out tangled (a few gone round the other
+        // way; doc/benchmarks.md), or Gmsh can fail to recover a boundary
+        // edge: then Gmsh meshes again, with another algorithm, and last with
+        // every boundary edge a line of its own, split at its midpoint (which
+        // keeps the boundary twice as fine: four times the cells).
         static constexpr MeshingAttempt attempts[] = {{6, true, "Frontal-Delaunay"},
                                                       {5, true, "Delaunay"},
                                                       {8, true, "Frontal-Delaunay for quads"},

@@ -131,9 +131,9 @@ namespace dieflow
     // take the known plane, not their own. Planes taken from the faces each
     // time would tilt by the round-off of the nodes' positions, the nodes
     // then moving along the tilted planes went off them further, and the
-    // next new mesh took that: on the extrusion start with a new mesh every
-    // few steps, the axis nodes were 1e-115 mm off at step 40, 1e-26 at step
-    // 127, 0.016 at step 260, where the kinked axis held the metal back.
+    // next new mesh took that: with a new mesh every few steps the error
+    // grows from round-off until a kinked axis holds the metal back
+    // (doc/benchmarks.md, "Figures behind the code's rules").
     std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>> known;
     for (const auto &[vertex, list] : planes)
       for (const auto &plane : list)

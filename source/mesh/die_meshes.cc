@@ -121,9 +121,9 @@ namespace dieflow
      * land, graded towards one corner, 1/q times, their far cells (q/n)
      * growing where the metal moves almost rigidly. Measured on the
      * axisymmetric round bar (doc/three-dimensional.md): with the uniform
-     * counts the grading gained little (q = 2, 8 across: 3.3 % against
-     * 7.9 % uniform), with these 1.3 % on fewer cells; twice more die cells
-     * gained nothing more.
+     * counts the grading gained little, with these much more on fewer
+     * cells; more die cells gained nothing more (doc/benchmarks.md,
+     * "Figures behind the code's rules").
      */
     struct AxialCounts
     {

@@ -171,10 +171,11 @@ namespace dieflow
                           incremental.last_remesh ? incremental.last_remesh->jacobian_after : 1.))
           remesh(cycle, jacobian);
         // Without new meshes the run would go on with cells turned inside
-        // out, and forces of no meaning. A corner a little past straight (a
-        // cell squeezed to a triangle where a side folds onto a platen, a
-        // fold's round-off) leaves every quadrature point's Jacobian
-        // positive: the run goes on.
+        // out, and forces of no meaning
+        // (doc/benchmarks.md, "Figures behind the code's rules"). A corner a
+        // little past straight (a cell squeezed to a triangle where a side
+        // folds onto a platen, a fold's round-off) leaves every quadrature
+        // point's Jacobian positive: the run goes on.
         if (!remeshing.enabled() && !(jacobian > -0.1))
           {
             std::ostringstream where;

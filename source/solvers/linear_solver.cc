@@ -352,8 +352,7 @@ namespace dieflow
     // The carried pressure q takes up lambda times the pressure rows' residual
     // of a solve, and Newton needs ||q / lambda|| below 1e-10 ||grad v||:
     // above the default penalty factor of 1e7 every tolerance shrinks with
-    // it (die2d, 1e10, 32 cells across: with 1e-6 the ratio stalled at
-    // 2.5e-10 for 50 Newton iterations; with 1e-9, 8 iterations).
+    // it, or the ratio stalls above that bound (doc/benchmarks.md).
     const double penalty_scale = std::min(1., 1e7 / penalty_factor);
     const double tightest      = iterative_tolerance * penalty_scale;
     if (!inexact_newton || !(relative_residual > 0))
@@ -363,12 +362,10 @@ namespace dieflow
     // of nodes that start or stop slipping) is mostly local, and a solve to
     // a fraction of it stops after a few Krylov iterations, the rest of the
     // flow as inaccurate as that fraction: the next states are decided on
-    // that flow. On die2d at 320 cells across (4.2M unknowns, degree 2)
-    // some 400 nodes of the die cone then traded stick and slip at every
-    // iteration, the residual alternating between 1.1 and 0.1 of the
-    // reactions (3 Krylov iterations to 1e-2 of 1.1, then 20-30), and Newton
-    // took 35 iterations, 869 s; with every solve to 1e-6 the changes died
-    // out as on coarser meshes, and with this rule Newton took 12, 469 s.
+    // that flow, and on a fine mesh nodes of the die cone then trade stick
+    // and slip at every iteration. A residual that grew is therefore solved
+    // to no looser an absolute accuracy than the last solve's
+    // (doc/benchmarks.md, "Figures behind the code's rules").
     if (previous_tolerance > 0 && relative_residual > previous_residual)
       return std::max(tightest, std::min(forcing, previous_tolerance * previous_residual / relative_residual));
     return forcing;
@@ -456,18 +453,19 @@ namespace dieflow
   std::size_t
   LinearSolverParameters::auto_threshold(const unsigned int dim, const unsigned int degree)
   {
-    // 3D, degree 2: on the round bar quarter the direct solver was faster
-    // at 7,503 unknowns (2.3 s against 3.3 s) and the mixed form at 54,033
-    // (33 s and 453 MB against 52 s and 2.3 GB; doc/three-dimensional.md):
-    // 3D factorisations fill in far more than 2D ones.
+    // 3D, degree 2: 3D factorisations fill in far more than 2D ones; on the
+    // round bar quarter the crossover lies between two sizes measured, the
+    // mixed form above it the faster and in much less memory
+    // (doc/three-dimensional.md; doc/benchmarks.md, "Figures behind the code's rules").
     if (dim == 3 && degree >= 2)
       return 20000;
     // Degree 2: the measured crossover of die2d N1 (doc/benchmarks.md,
-    // "p-multigrid"): the mixed form with the p-multigrid cycle takes as
-    // long as the direct solver from 668k to 1.5M unknowns, in a third of
-    // the memory, and runs on where the factorisation no longer fits. Degree 1: no crossover (the augmented
-    // Lagrangian was slower at every size, to 458k unknowns); this is
-    // where its factorisation outgrows some 13 GB (extrapolated).
+    // "p-multigrid"): from about this size the mixed form with the
+    // p-multigrid cycle takes as long as the direct solver, in much less
+    // memory, and runs on where the factorisation no longer fits. Degree 1:
+    // no crossover (the augmented Lagrangian was slower at every size
+    // measured); this is where its factorisation outgrows some 13 GB
+    // (extrapolated).
     return degree >= 2 ? 700000 : 3000000;
   }
 

@@ -240,9 +240,9 @@ namespace dieflow
     NonlinearResult result;
     double          last_update = std::numeric_limits<double>::infinity();
     // The Newton correction before the line search shortened it: a step cut
-    // to nearly nothing moves the solution little without converging it
-    // (a 3D bar stalled at a residual of 3e-3 with steps of 1e-3 and
-    // was reported converged by the update test).
+    // to nearly nothing moves the solution little without converging it,
+    // and the update test would report a stalled iteration converged
+    // (tests/newton_stalled_line_search; doc/benchmarks.md).
     double          last_correction = std::numeric_limits<double>::infinity();
     double          last_step   = 1;
     dealii::Vector<double> update(v.size()), trial(v.size());

@@ -89,8 +89,8 @@ namespace dieflow
       }
     A.mmult(product, embedding, free, first);
     embedding.Tmmult(coarse_matrix, product, free, first);
-    // Only the patterns are kept between set-ups: A P's values (17 MB of the
-    // 332 MB peak heap at 64 cells across) are not needed once A_1 is formed.
+    // Only the patterns are kept between set-ups: A P's values, a share of
+    // the peak heap, are not needed once A_1 is formed.
     product.clear();
     // Coarse dofs that reach only constrained fine dofs have empty rows.
     double diagonal_sum = 0;
@@ -101,9 +101,9 @@ namespace dieflow
         coarse_matrix.diag_element(i) = diagonal_sum / coarse_matrix.m();
 
     typename decltype(smoother)::AdditionalData data;
-    // Degree 2 to 5 and ranges 8 to 30 change the outer iterations by
-    // +-10 % on die2d (doc/benchmarks.md); power iteration because slipping
-    // friction makes A non-symmetric.
+    // The outer iterations depend little on the Chebyshev degree and range
+    // (doc/benchmarks.md); power iteration because slipping friction makes
+    // A non-symmetric.
     data.degree               = 3;
     data.smoothing_range      = 15;
     data.eig_cg_n_iterations  = 12;
@@ -124,44 +124,26 @@ namespace dieflow
     auto amg_data = velocity_amg_data({}, false);
     // Aggregation across every connection: dropping the weak ones (below
     // 0.02 of the diagonals, as ASPECT does) weakens ML's cycle where the
-    // viscosity contrast is strong (die2d, Norton-Hoff m = 0.05, 64 cells
-    // across, without the flow mode: 127 Krylov iterations per solve with
-    // 0.02, 40 with 0; 20 with the Q1 problem solved exactly). For a
-    // Newtonian material it changes little: 371 against 357 iterations at
-    // 668k unknowns, 3 % less memory.
+    // viscosity contrast is strong; for a Newtonian material it changes
+    // little (doc/benchmarks.md, "Figures behind the code's rules").
     amg_data.aggregation_threshold = 0;
-    // Four Chebyshev sweeps on each ML level instead of two: die2d, 128
-    // cells across (668k unknowns), 337 against 395 Krylov iterations,
-    // 49.9 against 58.7 s (Newtonian), 616 against 1,013 and 95.7 against
-    // 122.9 s (Norton-Hoff m = 0.05); the Q1 levels are cheap beside the
-    // Q2 smoothing.
+    // Four Chebyshev sweeps on each ML level instead of two: fewer Krylov
+    // iterations and less time, Newtonian or strongly shear-thinning, as
+    // the Q1 levels are cheap beside the Q2 smoothing (doc/benchmarks.md).
     amg_data.smoother_sweeps = 4;
     // Aggregates of whole nodes (the dim velocity components of a vertex,
     // consecutive in coarse_dofs, which is never renumbered): smoothed
     // aggregation interpolates the rotations only where an aggregate holds
-    // every component of its nodes (Vanek, Mandel, Brezina 1996). On a
-    // channel with a traction-free outlet (Stokes, 2 x 1 box, 32 / 64 / 128
-    // cells across) it keeps the Krylov iterations per decade at 2.79 /
-    // 2.82 / 2.85, as with the Q1 problem solved exactly (2.75 / 2.78 /
-    // 2.78), against 2.89 / 3.23 / 3.59 with aggregates of single dofs. On
-    // die2d it is neutral in time: the same counts to 1.5M unknowns (64 /
-    // 128 cells across: 242 / 332 Krylov iterations against 241 / 337;
-    // m = 0.05, 520 / 556 against 507 / 550 at 32 / 64), and at 4.16M 525
-    // against 475 iterations in the same wall time (639.5 / 643.8 s) with
-    // 4 % less memory. doc/benchmarks.md.
+    // every component of its nodes (Vanek, Mandel, Brezina 1996). With
+    // aggregates of single dofs the Krylov iterations per decade grow with
+    // the mesh; with whole nodes they stay as with the Q1 problem solved
+    // exactly, and on die2d it is neutral in time (doc/benchmarks.md).
     // In 2D two Jacobi sweeps on ML's tentative prolongator instead of
-    // one: on sheared cells one sweep leaves ML's V-cycle weaker with every
-    // refinement, two keep it as strong as an exact Q1 solve (condition
-    // number of the cycle on A, Stokes, a channel whose outlet part is
-    // parallelograms sheared 27 degrees, 16 / 32 / 64 / 128 cells across:
-    // 1.41 / 1.45 / 1.67 / 1.96 with one sweep, 1.42 at 32 and 128 with two
-    // and with KLU on Q1; die2d's bisected layout, no-slip dies, 32 / 64 /
-    // 128: 1.71 / 2.09 / 2.43 with one, 1.65 / 1.78 / 1.93 with two, 1.65 /
-    // 1.77 / 1.92 exact). die2d N1 to 4.26M unknowns: 12.7 to 14.0 Krylov
-    // iterations per solve instead of 14.2 to 18.9, in the same time, for
-    // 15 % more memory. In 3D (rectbar3d, 8 x 4 / 16 x 8 across) the
-    // iterations stayed (164 against 166) and time and memory grew 3-8 %:
-    // one sweep there. doc/benchmarks.md.
+    // one: on sheared Q1 cells one sweep leaves ML's V-cycle weaker with
+    // every refinement, two keep it as strong as an exact Q1 solve, in the
+    // same time for some more memory. In 3D the second sweep saved no
+    // iterations and cost time and memory: one sweep there
+    // (doc/benchmarks.md, "Figures behind the code's rules").
     const unsigned int prolongator_sweeps = dim == 2 ? 2 : 1;
     initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, modes, amg_data, dim,
                                           prolongator_sweeps);

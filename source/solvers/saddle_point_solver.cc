@@ -251,9 +251,8 @@ namespace dieflow
         return info;
       }
 
-    // One V-cycle: two cut the outer iterations on die2d N1 by a third (47,
-    // 103, 187 per solve against 79, 130, 258 at 16, 32, 64 cells across)
-    // but cost 1.2 to 1.5 times the time.
+    // One V-cycle: two cut the outer iterations but cost more time than
+    // they save (doc/benchmarks.md, "Figures behind the code's rules").
     PMultigrid<dim> *const cycle = p_multigrid.get();
     if (cycle != nullptr)
       cycle->initialize(A, constraints, flow);
@@ -266,17 +265,14 @@ namespace dieflow
 
     // GMRES with 32 vectors first (deal.II restarts when they are used up,
     // every 30 iterations): each holds a velocity and a pressure vector,
-    // the largest share of the solver's memory (50 cost 7 % more memory at
-    // the same time on die2d, 668k unknowns: 322 against 355 Krylov
-    // iterations over 11 solves). A solve that is not done after
-    // long_restart iterations goes on from where it stands with
-    // long_restart vectors, or as many as fit in half the free memory:
-    // short restarts stagnate where the velocity cycle is weak (die2d with
-    // Norton-Hoff m = 0.05, 32 cells across: 2,053 iterations, 4 direct
-    // fallbacks and 45.4 s over 17 solves with 32 vectors throughout;
-    // 1,483, none and 34.9 s this way; 100 vectors throughout, 975 and
-    // 26.1 s, but they would add some 0.7 KB per unknown to every large
-    // Newtonian run, whose solves take fewer than 100 iterations).
+    // the largest share of the solver's memory, and more of them cost
+    // memory and save no time. A solve that is not done after long_restart
+    // iterations goes on from where it stands with long_restart vectors, or
+    // as many as fit in half the free memory: short restarts stagnate where
+    // the velocity cycle is weak, and long ones from the start would add
+    // to the memory of every large Newtonian run, whose solves take fewer
+    // than long_restart iterations
+    // (doc/benchmarks.md, "Figures behind the code's rules").
     double last_residual = b.l2_norm();
     const auto gmres     = [&](const unsigned int restart, const unsigned int limit) {
       dealii::SolverControl control(limit, target, false, false);
@@ -313,8 +309,8 @@ namespace dieflow
     op.scale_pressure(dp, x.block(1));
     // deal.II's solvers take their Krylov vectors from a pool that keeps
     // them, once returned, until the program ends: 32 block vectors, a
-    // quarter of the peak heap at 64 cells across (heaptrack: 82 of 332 MB),
-    // held while the next Newton step assembles and sets up its multigrid.
+    // large share of the peak heap, held while the next Newton step
+    // assembles and sets up its multigrid.
     dealii::GrowingVectorMemory<dealii::BlockVector<double>>::release_unused_memory();
     return info;
   }

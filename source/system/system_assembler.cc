@@ -117,7 +117,8 @@ namespace dieflow
                                        const MixedPenalty<dim> *   mixed) const
   {
     // The formula of residual_floor() was measured for Newtonian flow; a
-    // strongly shear-thinning law puts its plateau higher (doc/formulation.md).
+    // strongly shear-thinning law puts its plateau higher (doc/benchmarks.md,
+    // "Figures behind the code's rules").
     double               free_squared = 0, reaction_squared = 0;
     const Vector<double> penalty_rows = mixed != nullptr ? mixed->penalty_magnitude(v) : Vector<double>();
     for (unsigned int i = 0; i < matrix.m(); ++i)

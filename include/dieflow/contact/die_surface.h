@@ -187,8 +187,8 @@ namespace dieflow
    * mesh's node near a die corner, off the die, both of whose directions
    * take the facet under it: ContactGaps::close_gaps()); held twice along
    * one normal the node would count as held by two walls, at rest and
-   * "sticking", while it slides (die2d's extrusion start: a node 0.13 mm
-   * above the exit D slid at 0.3 of the largest speed).
+   * "sticking", while it slides
+   * (doc/benchmarks.md, "Figures behind the code's rules").
    */
   template <int dim>
   void

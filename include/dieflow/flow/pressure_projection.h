@@ -48,7 +48,7 @@ namespace dieflow
    * Methods Appl. Mech. Eng. 4 (1974) 153), not its centre value: the
    * weight 2 pi r and the hoop term v_r/r vary across the cell, and a
    * centre-point constraint then lets each cell gain or lose volume
-   * (measured: 1.9 % of the flow on the 4-cell axisymmetric sink flow).
+   * (doc/benchmarks.md, "Figures behind the code's rules").
    */
   template <int dim>
   class PressureProjection

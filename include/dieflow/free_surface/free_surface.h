@@ -51,9 +51,9 @@ namespace dieflow
    * the part of the boundary where the metal is not held, on which a steady
    * flow has v.n = 0 (the surface is a streamline). A steady run on the
    * domain as meshed lets the metal leave a die only in velocity: past the
-   * sharp exit D of die2d the land's nodes separate with v.n up to half the
-   * exit speed, 6.6 % of the throughput coming in through the land
-   * (the mass-balance warning). move() makes the free surface a streamline
+   * sharp exit D of die2d the land's nodes separate with v.n > 0, a share
+   * of the throughput coming in through the land (the mass-balance
+   * warning; doc/benchmarks.md). move() makes the free surface a streamline
    * of the last solution, and the run solves again, until the surface
    * settles (the streamline method of free-surface flows, e.g. die swell).
    *
@@ -69,10 +69,10 @@ namespace dieflow
    * first mesh, kept), and an edge with both nodes on a die is that die's
    * again, unless the dies let it go before on this mesh: then it stays
    * free, lying on the die (the surface grazes the die with no pressure;
-   * given back, such faces pulled away from the die at the next solve and
-   * the march put them back, a cycle of two: die2d with mu = 0.1, 32 cells
-   * across). The march goes on over the die faces downstream of the stretch
-   * (the metal may leave them too) to the next other part; the straight
+   * given back, such faces pull away from the die at the next solve and
+   * the march puts them back, a cycle of two). The march goes on over the
+   * die faces downstream of the stretch (the metal may leave them too) to
+   * the next other part; the straight
    * boundary there (the outlet) is stretched to the march's end. Each move
    * is damped to a quarter of an edge (a damped fixed point: the first
    * streamlines of a domain the metal does not fill can be far off). The

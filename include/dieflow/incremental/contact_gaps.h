@@ -46,8 +46,8 @@ namespace dieflow
    * that went into the metal between two nodes of its boundary (the
    * node-to-facet contact holds nodes, not the edges between them: past
    * the die exit D the edge from the last node on the die face to the
-   * first one past D cut over D by up to 0.05 mm, and the metal flowed
-   * through an opening that much wider, the ram force 1-3 % low) puts one
+   * first one past D cut over D, and the metal flowed through an opening
+   * that much wider, the ram force low; doc/benchmarks.md) puts one
    * of the two nodes on the corner: the metal's boundary passes through it
    * again, as a steady run's mesh has a node there. Then a free face whose vertices all
    * lie on one die (within 1e-6 of the die's size) becomes a face of that

@@ -30,8 +30,8 @@ namespace dieflow
    * the die corners C and D, so that the cells there have the corner's half
    * angle: 55 and 125 degrees for beta = 70. Layout "blocks" joins them along
    * the verticals through C and D, which leaves cells of 20 degrees at C and
-   * 160 degrees at D; at 16 cells across its ram force is 31.6 % above the
-   * converged value, the bisected layout's 9.1 % (doc/benchmarks.md).
+   * 160 degrees at D: its ram force is far off on coarse meshes
+   * (doc/benchmarks.md).
    * A flat die (beta = 90) has no converging zone: the container's right
    * side is split at h_o into the land's inlet and the die face.
    */

@@ -101,8 +101,8 @@ namespace dieflow
    * nodes included); on a problem linear once the contact states are
    * fixed it is F_h(degree p + 1) - F_h(degree p) on the same mesh, as it
    * must be, so its effectivity is the share of the error that the higher
-   * degree removes: about 0.9 for degree 1 and 0.5 for degree 2 on die2d
-   * with frictionless dies (the die exit's singularity), and near zero
+   * degree removes: most of it on die2d with frictionless dies, less for
+   * degree 2 than for degree 1 (the die exit's singularity), and near zero
    * with Coulomb friction, whose error is mostly that of the contact
    * states themselves (where stick turns to slip, where the metal
    * separates), outside a frozen-state linearisation.

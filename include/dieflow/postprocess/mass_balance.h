@@ -27,8 +27,8 @@ namespace dieflow
    *
    * the second also seeing compression in one place and expansion in
    * another, which cancel in the first. Both are 0 when nothing flows
-   * (Q = 0). A relative force error of about the loss follows (measured on
-   * die2d N1: loss 8e-4 -> 0.1 %, 7.4e-2 -> 8 %).
+   * (Q = 0). A relative force error of about the loss follows
+   * (doc/benchmarks.md, "Figures behind the code's rules").
    */
   struct MassBalance
   {

@@ -35,8 +35,8 @@ namespace dieflow
      *   |Q_k - Q_{k-1}| / ((N_k / N_{k-1})^p - 1),  p = min(1/2, observed p),
      * and with the larger of the last two changes when the last three values
      * do not converge monotonically. Why 1/2: the observed order of an
-     * adaptive sequence jumps from cycle to cycle (on die2d N1 between 0.3
-     * and 2), so Q* may sit on either side of the truth, whereas the error
+     * adaptive sequence jumps from cycle to cycle (doc/benchmarks.md), so
+     * Q* may sit on either side of the truth, whereas the error
      * of a functional such as a boundary force falls at least as fast as the
      * energy-norm error, N^-1/2 for optimal Q1 meshes in 2D (uniform
      * refinement of a smooth solution: the estimate is three times the

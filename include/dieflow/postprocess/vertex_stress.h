@@ -29,8 +29,8 @@ namespace dieflow
    * the average over the cells around a wall node cancels (measured in
    * doc/contact.md). Not for the wall pressure: at a wall the cell-constant
    * pressures are one-sided, an O(h) bias where the pressure varies
-   * across the wall (0.875 for 1 in the Couette layer of 4 cells, whose
-   * weight makes p linear in y); the profiles recover that along the wall.
+   * across the wall (as in a Couette layer whose weight makes p linear in
+   * y; doc/benchmarks.md); the profiles recover that along the wall.
    */
   template <int dim>
   std::vector<SymmetricTensor<2, dim>>

@@ -42,9 +42,8 @@ namespace dieflow
      * Degree 2: the decades by which the solves reduced their residuals,
      * sum of log10(1 / reduction). krylov_iterations / residual_decades is
      * the preconditioner's rate, free of the forcing term: finer meshes ask
-     * Newton's later solves for more decades (die2d, 42k / 668k unknowns:
-     * 31 / 40 decades over the run), which raises the iterations per solve
-     * at an unchanged rate.
+     * Newton's later solves for more decades, which raises the iterations
+     * per solve at an unchanged rate (doc/benchmarks.md).
      */
     double       residual_decades = 0;
     unsigned int direct_fallbacks  = 0;
@@ -227,8 +226,9 @@ namespace dieflow
     /**
      * Throws ResourceFailure, with the sizes, where the direct fallback of a
      * failed iterative solve would need more memory than the machine has
-     * free (MemAvailable): the fallback of a 316,179-unknown 3D solve was
-     * killed by the kernel at 23 GB, without a word.
+     * free (MemAvailable): a fallback that outgrows it is killed by the
+     * kernel, without a word
+     * (doc/benchmarks.md, "Figures behind the code's rules").
      */
     static void
     require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);

@@ -58,10 +58,9 @@ namespace dieflow
      * once its dual strain rate S has settled on D/r, as near the
      * solution): along the flow the tangent's stiffness is m times that
      * across it, and smoothed aggregation coarsens well only what its
-     * near-null space spans (die2d, m = 0.05, 16 / 32 / 64 cells across:
-     * 24 / 27 / 30 Krylov iterations per solve with the flow, 43 / 32 / 40
-     * without; doc/benchmarks.md). Not for a Newtonian law (m = 1: no
-     * softer direction, and 8 % more memory at 668k unknowns).
+     * near-null space spans (with the flow a strongly shear-thinning law
+     * takes fewer Krylov iterations per solve; doc/benchmarks.md). Not for
+     * a Newtonian law (m = 1: no softer direction, only more memory).
      */
     void
     initialize(const dealii::SparseMatrix<double> &      A,

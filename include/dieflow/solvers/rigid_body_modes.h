@@ -21,7 +21,7 @@ namespace dieflow
    * convergence rate independent of the mesh (Vanek, Mandel, Brezina,
    * Computing 56 (1996) 179). With the translations alone, as for a
    * vector Laplacian, the outer iterations of die2d's mixed-form solver
-   * grew twice as fast with the mesh (doc/benchmarks.md).
+   * grew faster with the mesh (doc/benchmarks.md).
    * Stored column by column: mode m of dof i at [m * n_dofs + i].
    */
   template <int dim>

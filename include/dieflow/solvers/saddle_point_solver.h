@@ -46,8 +46,8 @@ namespace dieflow
    * makes it non-symmetric) to that relative residual: a preconditioner
    * that changes with its argument, hence flexible GMRES outside (ASPECT's
    * "expensive" Stokes solver). The inner solve makes the outer count that
-   * of an exact A (the Schur approximation's alone, about 15 per solve on
-   * die2d, doc/benchmarks.md) at the price of the inner iterations.
+   * of an exact A (the Schur approximation's alone, doc/benchmarks.md) at
+   * the price of the inner iterations.
    *
    * The pressure unknowns and equations are scaled by s_K = eta_K / h_K,
    * which gives both blocks the units of a nodal force, so that the
