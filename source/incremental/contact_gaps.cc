@@ -136,6 +136,71 @@ namespace dieflow
           }
       return over;
     }
+
+    /**
+     * The facets of a die from the mesh, going on straight past its edges by
+     * @p reach: in 2D each end segment (a vertex of one facet only) is
+     * lengthened; in 3D a flat die (every facet in one plane: a platen)
+     * gains a square of its plane, of half side @p reach about its centre.
+     * A curved 3D die keeps its facets.
+     */
+    template <int dim>
+    std::vector<typename DieSurface<dim>::Facet>
+    extended(std::vector<typename DieSurface<dim>::Facet> facets, const double reach)
+    {
+      if constexpr (dim == 2)
+        {
+          std::map<std::pair<double, double>, unsigned int> ends;
+          for (const auto &f : facets)
+            for (const auto &x : f.vertices)
+              ++ends[{x[0], x[1]}];
+          for (auto &f : facets)
+            for (unsigned int k = 0; k < 2; ++k)
+              if (ends[{f.vertices[k][0], f.vertices[k][1]}] == 1)
+                {
+                  const auto along = f.vertices[k] - f.vertices[1 - k];
+                  f.vertices[k] += reach / along.norm() * along;
+                }
+        }
+      else
+        {
+          const auto normal_of = [](const typename DieSurface<dim>::Facet &f) {
+            const dealii::Tensor<1, dim> n = dealii::cross_product_3d(f.vertices[1] - f.vertices[0], f.vertices[2] - f.vertices[0]);
+            return n / n.norm();
+          };
+          const dealii::Tensor<1, dim> n      = normal_of(facets.front());
+          dealii::Point<dim>           centre;
+          double                       extent = 0;
+          for (const auto &f : facets)
+            for (const auto &x : f.vertices)
+              centre += x / (3. * facets.size());
+          bool flat = true;
+          for (const auto &f : facets)
+            {
+              flat &= std::abs(normal_of(f) * n) > 1 - 1e-12;
+              for (const auto &x : f.vertices)
+                extent = std::max(extent, x.distance(centre));
+            }
+          for (const auto &f : facets)
+            for (const auto &x : f.vertices)
+              flat &= std::abs((x - centre) * n) <= 1e-12 * extent;
+          if (flat)
+            {
+              // Two in-plane directions, and the square's corners.
+              dealii::Tensor<1, dim> t1 = facets.front().vertices[1] - facets.front().vertices[0];
+              t1 /= t1.norm();
+              const dealii::Tensor<1, dim> t2 = dealii::cross_product_3d(n, t1);
+              const dealii::Point<dim>     a  = centre - reach * t1 - reach * t2, b = centre + reach * t1 - reach * t2,
+                                       c      = centre + reach * t1 + reach * t2, d = centre - reach * t1 + reach * t2;
+              typename DieSurface<dim>::Facet first, second;
+              first.vertices  = {{a, b, c}};
+              second.vertices = {{a, c, d}};
+              facets.push_back(first);
+              facets.push_back(second);
+            }
+        }
+      return facets;
+    }
   } // namespace
 
 
@@ -155,32 +220,29 @@ namespace dieflow
         if (face->at_boundary() && die_ids.count(face->boundary_id()) && !given_surfaces.count(face->boundary_id()))
           for (const auto &facet : DieSurface<dim>::facets_of(*face))
             faces[face->boundary_id()].push_back(facet);
-    // The metal leaves a die from the mesh at its edges (a platen's contact
-    // grows): in 2D its end segments go on straight by the mesh's size.
-    const double reach = dealii::GridTools::diameter(triangulation);
+    // A die from the mesh goes on straight past its edges: a platen is
+    // larger than the block it presses, whose contact grows as the block
+    // spreads. The searches' tolerance is that of the die extended by the
+    // mesh's size; the die itself is extended as far as the metal may ever
+    // spread (a thousand times the mesh's size): a die whose edge the metal
+    // may flow past (a land's exit) is given as a surface (Contact/Die
+    // surfaces). Ending the die at the mesh's size let the spreading block
+    // slide off the platen's end, which then pressed on less and less
+    // metal (plane-strain upsetting past 56 % reduction, doc/incremental.md).
+    const double mesh_size = dealii::GridTools::diameter(triangulation);
+    tolerance              = 0;
     for (auto &[id, facets] : faces)
       {
-        if constexpr (dim == 2)
-          {
-            std::map<std::pair<double, double>, unsigned int> ends;
-            for (const auto &f : facets)
-              for (const auto &x : f.vertices)
-                ++ends[{x[0], x[1]}];
-            for (auto &f : facets)
-              for (unsigned int k = 0; k < 2; ++k)
-                if (ends[{f.vertices[k][0], f.vertices[k][1]}] == 1)
-                  {
-                    const auto along = f.vertices[k] - f.vertices[1 - k];
-                    f.vertices[k] += reach / along.norm() * along;
-                  }
-          }
-        dies[id].set_facets(facets);
+        DieSurface<dim> near;
+        near.set_facets(extended<dim>(facets, mesh_size));
+        tolerance = std::max(tolerance, 1e-6 * near.diameter());
+        dies[id].set_facets(extended<dim>(facets, 1e3 * mesh_size));
       }
     for (const auto &[id, surface] : given_surfaces)
-      dies[id] = surface;
-    tolerance = 0;
-    for (const auto &[id, surface] : dies)
-      tolerance = std::max(tolerance, 1e-6 * surface.diameter());
+      {
+        dies[id]  = surface;
+        tolerance = std::max(tolerance, 1e-6 * surface.diameter());
+      }
   }
 
 
