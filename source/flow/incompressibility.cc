@@ -72,12 +72,21 @@ namespace dieflow
 
   template <int dim>
   void
-  Incompressibility<dim>::reinit(const AffineConstraints<double> &hanging_node_constraints, const Vector<double> &velocity)
+  Incompressibility<dim>::reinit(const AffineConstraints<double> &hanging_node_constraints,
+                                 const Vector<double> &           velocity,
+                                 const SparseMatrix<double> &     matrix)
   {
     const auto &       fe      = dof_handler.get_fe();
     const unsigned int n_cells = dof_handler.get_triangulation().n_active_cells();
     linear_solver.reset();
-    const bool iterative = linear_solver.parameters.iterative_for(dim, fe.degree, dof_handler.n_dofs());
+    bool iterative = linear_solver.parameters.iterative_for(dim, fe.degree, dof_handler.n_dofs());
+    if (!iterative && linear_solver.parameters.method == LinearSolverParameters::Method::automatic &&
+        !linear_solver.direct_fits(dim, matrix))
+      {
+        iterative = true;
+        log << "  Linear solver/Method = auto: a direct factorisation of " << dof_handler.n_dofs()
+            << " unknowns would not fit in the memory free; iterative on this mesh" << std::endl;
+      }
     current_form         = !iterative ? Form::penalty : fe.degree == 1 ? Form::augmented_lagrangian : Form::mixed;
     if (current_form == Form::mixed)
       {

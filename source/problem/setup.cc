@@ -135,7 +135,7 @@ namespace dieflow
     dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, false);
     sparsity_pattern.copy_from(dsp);
     system_matrix.reinit(sparsity_pattern);
-    incompressibility.reinit(hanging_node_constraints, velocity);
+    incompressibility.reinit(hanging_node_constraints, velocity, system_matrix);
     system_rhs.reinit(dof_handler.n_dofs());
   }
 

@@ -3,6 +3,10 @@
 
 #include <suitesparse/cholmod.h>
 #include <suitesparse/umfpack.h>
+#include <malloc.h>
+#include <sys/resource.h>
+
+#include <thread>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +18,72 @@
 
 namespace dieflow
 {
+  double
+  mapped_memory()
+  {
+    std::ifstream status("/proc/self/status");
+    std::string   line;
+    while (std::getline(status, line))
+      if (line.rfind("VmSize:", 0) == 0)
+        return 1024. * std::stod(line.substr(7));
+    return 0;
+  }
+
+
+
+  namespace
+  {
+    /// Whether a factorisation has run in this process: the BLAS it calls
+    /// has then mapped its work buffers (it keeps them to the end).
+    bool blas_buffers_mapped = false;
+
+    /// OpenBLAS's work buffers: 128 MB per thread, mapped at its first call.
+    double
+    blas_buffer_bytes()
+    {
+      return 128. * 1024 * 1024 * std::max(1u, std::thread::hardware_concurrency());
+    }
+
+    /**
+     * While it lives, the process may map at most @p room bytes more than
+     * it maps now (RLIMIT_AS, what ulimit -v sets, lowered and restored;
+     * never raised above a limit already set): an allocation beyond it
+     * fails instead of the memory running out under the kernel.
+     */
+    class AddressSpaceCap
+    {
+    public:
+      explicit AddressSpaceCap(const double room)
+      {
+        const double mapped = mapped_memory();
+        if (room <= 0 || mapped == 0 || getrlimit(RLIMIT_AS, &saved) != 0)
+          return;
+        const double cap = mapped + room;
+        if (saved.rlim_cur != RLIM_INFINITY && cap >= static_cast<double>(saved.rlim_cur))
+          return;
+        struct rlimit lowered = saved;
+        lowered.rlim_cur      = static_cast<rlim_t>(cap);
+        active                = setrlimit(RLIMIT_AS, &lowered) == 0;
+      }
+
+      ~AddressSpaceCap()
+      {
+        if (active)
+          setrlimit(RLIMIT_AS, &saved);
+      }
+
+      AddressSpaceCap(const AddressSpaceCap &) = delete;
+      AddressSpaceCap &
+      operator=(const AddressSpaceCap &) = delete;
+
+    private:
+      struct rlimit saved;
+      bool          active = false;
+    };
+  } // namespace
+
+
+
   void
   LinearSolverCounts::add_block_solve(const unsigned int iterations,
                                       const unsigned int inner,
@@ -65,6 +135,7 @@ namespace dieflow
         cholmod_l_free_factor(&factor, &common);
       numeric = symbolic = nullptr;
       factor             = nullptr;
+      factor_counted     = false;
     }
 
     /// Builds the column-compressed structure (full and lower triangle) and
@@ -131,8 +202,9 @@ namespace dieflow
           }
     }
 
-    bool
-    cholesky()
+    /// The pattern's lower triangle with the values, as CHOLMOD reads it.
+    cholmod_sparse
+    lower_triangle()
     {
       cholmod_sparse A;
       A.nrow   = n;
@@ -149,14 +221,61 @@ namespace dieflow
       A.dtype  = CHOLMOD_DOUBLE;
       A.sorted = 1;
       A.packed = 1;
+      return A;
+    }
+
+    /**
+     * CHOLMOD's analysis of the pattern (an ordering and the symbolic
+     * factor, which depend on the pattern only: kept for the Cholesky
+     * factorisations of this pattern), and from it the bytes of the numeric
+     * factor: its values (xsize) and, supernodal, their row indices
+     * (ssize); simplicial, the values and indices of L. 0 if it fails.
+     */
+    double
+    cholesky_factor_bytes()
+    {
       if (factor == nullptr)
         {
-          factor = cholmod_l_analyze(&A, &common);
-          ++analyses;
+          cholmod_sparse A = lower_triangle();
+          factor           = cholmod_l_analyze(&A, &common);
+          if (factor == nullptr)
+            return 0;
+          factor_bytes = factor->is_super ? 8. * (factor->xsize + factor->ssize) : 16. * common.lnz;
         }
-      if (factor == nullptr)
+      return factor_bytes;
+    }
+
+    /**
+     * The memory the next numeric factorisation will add, from CHOLMOD's
+     * analysis: 1.25 times its factor for a Cholesky factorisation (nothing
+     * once the factor holds values: it is refactorised in place), 2.5 times
+     * for an LU one (L and U, UMFPACK's work space: 1.9 to 2.2 times the
+     * Cholesky factor measured from 40,000 unknowns in 2D and 3D, more only
+     * on small meshes that fit anyway; UMFPACK's own estimate, an upper
+     * bound for any pivoting, was 7 to 30 times what it used:
+     * doc/benchmarks.md, "Direct solves and the memory left").
+     */
+    double
+    factorisation_bytes(const bool cholesky)
+    {
+      if (cholesky)
+        return (factor != nullptr && factor->xtype != CHOLMOD_PATTERN) ? 0. : 1.25 * cholesky_factor_bytes();
+      return 2.5 * cholesky_factor_bytes();
+    }
+
+    bool
+    cholesky()
+    {
+      if (!factor_counted)
+        {
+          ++analyses;
+          factor_counted = true;
+        }
+      if (cholesky_factor_bytes() == 0)
         return false;
+      cholmod_sparse A = lower_triangle();
       cholmod_l_factorize(&A, factor, &common);
+      out_of_memory = out_of_memory || common.status == CHOLMOD_OUT_OF_MEMORY;
       return common.status == CHOLMOD_OK && factor->minor == static_cast<std::size_t>(n);
     }
 
@@ -169,10 +288,14 @@ namespace dieflow
       if (symbolic == nullptr)
         {
           ++analyses;
-          if (umfpack_dl_symbolic(n, n, Ap.data(), Ai.data(), Ax.data(), &symbolic, control, info) != UMFPACK_OK)
+          const int status = umfpack_dl_symbolic(n, n, Ap.data(), Ai.data(), Ax.data(), &symbolic, control, info);
+          out_of_memory    = out_of_memory || status == UMFPACK_ERROR_out_of_memory;
+          if (status != UMFPACK_OK)
             return false;
         }
-      return umfpack_dl_numeric(Ap.data(), Ai.data(), Ax.data(), symbolic, &numeric, control, info) == UMFPACK_OK;
+      const int status = umfpack_dl_numeric(Ap.data(), Ai.data(), Ax.data(), symbolic, &numeric, control, info);
+      out_of_memory    = out_of_memory || status == UMFPACK_ERROR_out_of_memory;
+      return status == UMFPACK_OK;
     }
 
     long                     n = 0;
@@ -187,6 +310,13 @@ namespace dieflow
     void *                   numeric  = nullptr;
     double                   control[UMFPACK_CONTROL];
     bool                     last_was_cholesky = false;
+    /// Bytes of the Cholesky factor (cholesky_factor_bytes()), and whether
+    /// its analysis served a factorisation (counted in analyses).
+    double                   factor_bytes   = 0;
+    bool                     factor_counted = false;
+    /// Whether the last factorisation ran out of memory (its allocations
+    /// failed under the address-space cap that factorize() sets).
+    bool                     out_of_memory = false;
     /// Orderings and symbolic factorisations computed (both kinds).
     unsigned int             analyses = 0;
   };
@@ -388,10 +518,39 @@ namespace dieflow
     auto &s = *suitesparse;
     s.analyse_pattern(matrix);
     s.copy_values(matrix);
-    s.last_was_cholesky = symmetric && parameters.direct_solver == LinearSolverParameters::DirectSolver::automatic && s.cholesky();
-    const bool factorised = s.last_was_cholesky || s.lu();
+    const bool cholesky = symmetric && parameters.direct_solver == LinearSolverParameters::DirectSolver::automatic;
+    // The last LU factorisation's values go before the next is measured.
+    if (s.numeric != nullptr)
+      umfpack_dl_free_numeric(&s.numeric);
+    require_factorisation_fits(cholesky);
+    const double free_bytes = available_memory();
+    bool         factorised = false;
+    s.out_of_memory         = false;
+    {
+      // The estimate above is one of the analysis; what the factorisation
+      // takes is known only as it runs. Its allocations are capped at the
+      // memory free, so that one beyond it fails (and is reported) instead
+      // of the kernel killing the process (its OOM killer ended a 3D run of
+      // 321,081 unknowns at 24 GB whose estimate had let it through). Until
+      // a factorisation has mapped OpenBLAS's buffers the cap leaves room
+      // for them: it waits for ever where it cannot map them.
+      const AddressSpaceCap cap(free_bytes + (blas_buffers_mapped ? 0. : blas_buffer_bytes()));
+      s.last_was_cholesky = cholesky && s.cholesky();
+      factorised          = s.last_was_cholesky || s.lu();
+    }
+    blas_buffers_mapped = blas_buffers_mapped || factorised;
     counts.symbolic_analyses += s.analyses;
     s.analyses = 0;
+    if (!factorised && s.out_of_memory)
+      {
+        std::ostringstream message;
+        message << std::fixed << std::setprecision(2) << "Linear solver/Method: the direct solver's factorisation of "
+                << s.n << " unknowns ran out of the " << free_bytes / 1e9
+                << " GB free: set Method = iterative"
+                << (parameters.method == LinearSolverParameters::Method::automatic ? " (auto chose the direct solver for this mesh)" : " (or auto)")
+                << ", or solve a coarser mesh";
+        throw ResourceFailure(message.str());
+      }
     if (!factorised)
       throw SolverFailure("the sparse direct solver (UMFPACK) could not factorise the "
                           "linearised system: it is singular, or memory ran out");
@@ -512,15 +671,97 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The first number in @p file (0 if none).
+    double
+    number_in(const std::string &file)
+    {
+      std::ifstream in(file);
+      double        value = 0;
+      return (in >> value) ? value : 0;
+    }
+  } // namespace
+
+
+
   double
   LinearSolver::available_memory()
   {
+    // The machine's free memory (MemAvailable) ...
     std::ifstream meminfo("/proc/meminfo");
     std::string   key;
     double        kilobytes = 0;
     while (meminfo >> key >> kilobytes && key != "MemAvailable:")
       meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-    return key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
+    double     available = key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
+    const auto at_most   = [&](const double room) {
+      if (available == 0 || room < available)
+        available = std::max(room, 1.);
+    };
+    // ... no more than the address space this process may still take
+    // (ulimit -v): the limit less what is mapped, plus what the allocator
+    // holds free for reuse (freed memory stays mapped in its arenas) ...
+    struct rlimit limit;
+    if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+      {
+        // OpenBLAS maps a work buffer of 128 MB per thread at its first
+        // call and, where it cannot, retries for ever (seen hung in
+        // CHOLMOD's dpotrf under ulimit -v): that much is kept back until
+        // a factorisation has run (then the buffers are in VmSize).
+        const double blas_buffers = blas_buffers_mapped ? 0. : blas_buffer_bytes();
+        at_most(static_cast<double>(limit.rlim_cur) - mapped_memory() + static_cast<double>(mallinfo2().fordblks) -
+                blas_buffers);
+      }
+    // ... and no more than the control group's limit leaves (a container's).
+    std::ifstream max("/sys/fs/cgroup/memory.max");
+    std::string   text;
+    if (max >> text && text != "max")
+      at_most(std::stod(text) - number_in("/sys/fs/cgroup/memory.current"));
+    return available;
+  }
+
+
+
+  bool
+  LinearSolver::direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix)
+  {
+    const double available = available_memory();
+    if (available == 0 || direct_memory_estimate(dim, matrix.m()) < 0.25 * available)
+      return true;
+    // Newton's systems on one mesh may take both kinds: a Cholesky factor
+    // (kept for the next symmetric system) and an LU one; and the assembly
+    // and the iteration's own vectors take their share of what is free now
+    // (under ulimit -v some 0.4 GB of 1.2 GB with 96,418 unknowns): the
+    // direct solver is chosen where the factorisations take half of it.
+    suitesparse->analyse_pattern(matrix);
+    return 2 * (suitesparse->factorisation_bytes(true) + suitesparse->factorisation_bytes(false)) <= available;
+  }
+
+
+
+  void
+  LinearSolver::require_factorisation_fits(const bool cholesky)
+  {
+    // Before each numeric factorisation, its memory from the analysis
+    // against the memory free: a factorisation that does not fit is refused
+    // with the sizes, not killed by the kernel without a word. Where even
+    // the 3D estimate of the measured runs is far below the free memory,
+    // the analysis is not needed.
+    auto &       s         = *suitesparse;
+    const double available = available_memory();
+    if (available == 0 || direct_memory_estimate(3, s.n) < 0.25 * available)
+      return;
+    const double needed = s.factorisation_bytes(cholesky);
+    if (needed <= available)
+      return;
+    std::ostringstream message;
+    message << std::fixed << std::setprecision(2) << "Linear solver/Method: the direct solver's factorisation of " << s.n
+            << " unknowns needs about " << needed / 1e9 << " GB (from CHOLMOD's analysis), more than the "
+            << available / 1e9 << " GB free: set Method = iterative"
+            << (parameters.method == LinearSolverParameters::Method::automatic ? " (auto chose the direct solver for this mesh)" : " (or auto)")
+            << ", or solve a coarser mesh";
+    throw ResourceFailure(message.str());
   }
 
 

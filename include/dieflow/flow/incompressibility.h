@@ -82,13 +82,18 @@ namespace dieflow
                       std::ostream &               log);
 
     /**
-     * A new mesh (the dofs distributed): forgets the linear solver's
-     * analysis, takes the form the linear solver chooses for its size, and
-     * starts the multiplier from the carried cell stress (carry(); zero
-     * without one) at @p velocity (the iterate the mesh starts from).
+     * A new mesh (the dofs distributed, @p matrix sized to its pattern):
+     * forgets the linear solver's analysis, takes the form the linear
+     * solver chooses for its size (with Method = auto, the iterative one
+     * also where a direct factorisation would not fit in the memory free,
+     * LinearSolver::direct_fits()), and starts the multiplier from the
+     * carried cell stress (carry(); zero without one) at @p velocity (the
+     * iterate the mesh starts from).
      */
     void
-    reinit(const AffineConstraints<double> &hanging_node_constraints, const Vector<double> &velocity);
+    reinit(const AffineConstraints<double> &hanging_node_constraints,
+           const Vector<double> &           velocity,
+           const SparseMatrix<double> &     matrix);
 
     Form
     form() const

@@ -15,6 +15,10 @@
 
 namespace dieflow
 {
+  /// The address space this process maps now (VmSize), in bytes; 0 if unknown.
+  double
+  mapped_memory();
+
   /// A linear system that could not be solved (singular, or out of memory).
   class SolverFailure : public std::runtime_error
   {
@@ -192,7 +196,13 @@ namespace dieflow
     void
     reset();
 
-    /// Factorises @p matrix (@p symmetric: J = J^T); throws SolverFailure if it cannot.
+    /// Factorises @p matrix (@p symmetric: J = J^T); throws SolverFailure if
+    /// it cannot, and ResourceFailure (naming Linear solver/Method and the
+    /// sizes) where its analysis's estimate of the factorisation's memory
+    /// exceeds the memory free (available_memory()), or where the
+    /// factorisation runs out of it: it runs with the address space capped
+    /// at the memory free, so that it fails instead of the kernel killing
+    /// the process.
     void
     factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric);
 
@@ -233,13 +243,25 @@ namespace dieflow
     static void
     require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
 
+    /**
+     * Whether the direct solver's factorisations of @p matrix's pattern (a
+     * mesh of dimension @p dim) take at most half the memory free now, from
+     * CHOLMOD's analysis of the pattern, asked only where the measured
+     * estimate (direct_memory_estimate()) exceeds a quarter of the free
+     * memory. (Method = auto solves iteratively where they do not.)
+     */
+    bool
+    direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix);
+
     /// Whether the direct fallback for @p n_dofs unknowns fits in the
     /// memory free now (true where the free memory is not known), as
     /// require_direct_fallback_fits() judges it.
     static bool
     direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
 
-    /// The memory free now (the kernel's MemAvailable), in bytes; 0 where there is no such figure.
+    /// The memory free now, in bytes: the kernel's MemAvailable, but no
+    /// more than the address space the process may still take (ulimit -v)
+    /// or its control group's limit leaves; 0 where there is no such figure.
     static double
     available_memory();
 
@@ -256,6 +278,11 @@ namespace dieflow
     LinearSolverCounts counts;
 
   private:
+    /// Throws ResourceFailure where the next factorisation (@p cholesky or
+    /// LU) would need more memory than is free (see factorize()).
+    void
+    require_factorisation_fits(const bool cholesky);
+
     struct SuiteSparse;
     std::unique_ptr<SuiteSparse> suitesparse;
     /// Made on first use: Trilinos needs MPI initialised (the direct path does not).
