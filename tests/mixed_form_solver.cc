@@ -104,10 +104,14 @@ namespace
   unsigned int
   most_iterations_per_solve(const RunSummary &run)
   {
+    // A cycle without an iterative solve has nothing to bound: it fails
+    // the bound (the largest count), so the checks cannot pass vacuously.
     unsigned int most = 0;
     for (const auto &c : run.cycles)
-      most = std::max(most, c.linear_counts.krylov_iterations / std::max(1u, c.linear_counts.iterative_solves));
-    return most;
+      most = c.linear_counts.iterative_solves == 0 ?
+               std::numeric_limits<unsigned int>::max() :
+               std::max(most, c.linear_counts.krylov_iterations / c.linear_counts.iterative_solves);
+    return run.cycles.empty() ? std::numeric_limits<unsigned int>::max() : most;
   }
 
   /**
@@ -123,6 +127,8 @@ namespace
     for (const auto &c : run.cycles)
       {
         const auto &n = c.linear_counts;
+        if (n.iterative_solves == 0 || n.residual_decades <= 0)
+          return {std::numeric_limits<double>::infinity(), 0.};
         most   = std::max(most, n.krylov_iterations / n.residual_decades);
         fewest = std::min(fewest, n.residual_decades / n.iterative_solves);
       }

@@ -29,6 +29,12 @@ namespace
     prm.enter_subsection("Test");
     prm.declare_entry("Columns", "", dealii::Patterns::Anything(), "Quantities printed per cycle.");
     prm.declare_entry("Precision", "3", dealii::Patterns::Integer(1, 8), "Significant digits printed.");
+    prm.declare_entry("Round-off",
+                      "0",
+                      dealii::Patterns::Double(0),
+                      "Values smaller in magnitude are round-off (or solver tolerance) for this deck: printed as "
+                      "'<' and this bound, so that the table compares what they are not (a value that grows past "
+                      "it changes the table). 0: every value printed.");
     prm.declare_entry("Checks", "", dealii::Patterns::Anything(), "label: expression; ... (true = pass)");
     prm.leave_subsection();
   }
@@ -175,11 +181,16 @@ namespace
   }
 
   std::string
-  format(const double x, const unsigned int precision)
+  format(const double x, const unsigned int precision, const double round_off)
   {
     if (std::isnan(x))
       return "-";
     std::ostringstream s;
+    if (x != 0 && std::abs(x) < round_off)
+      {
+        s << '<' << round_off;
+        return s.str();
+      }
     if (x == std::round(x) && std::abs(x) < 1e9)
       s << static_cast<long long>(x);
     else
@@ -228,6 +239,7 @@ main(int argc, char **argv)
   prm.enter_subsection("Test");
   const auto         columns   = dealii::Utilities::split_string_list(prm.get("Columns"));
   const unsigned int precision = prm.get_integer("Precision");
+  const double       round_off = prm.get_double("Round-off");
   const auto         checks    = dealii::Utilities::split_string_list(prm.get("Checks"), ';');
   prm.leave_subsection();
 
@@ -244,7 +256,7 @@ main(int argc, char **argv)
           for (const auto &name : columns)
             {
               const auto it = q.find(name + "_c" + std::to_string(c));
-              std::cout << ' ' << (it == q.end() ? "?" : format(it->second, precision));
+              std::cout << ' ' << (it == q.end() ? "?" : format(it->second, precision, round_off));
             }
           std::cout << std::endl;
         }
