@@ -26,7 +26,7 @@ frictionless run at 25 % (the flow stress at the mean strain rate; it
 rises 7 % from the first step to the last with the rate).
 
 Usage: benchmarks/ring_upper_bound.py [--program build/dieflow] [--m 0,0.1,0.2,0.4]
-                                      [--subdivisions 8,12]"""
+                                      [--subdivisions 8,12] [--curves FILE]"""
 import argparse, math, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -38,6 +38,8 @@ parser.add_argument("--program", default="build/dieflow")
 parser.add_argument("--deck", default="parameters/ring-compression.prm")
 parser.add_argument("--m", default="0,0.1,0.2,0.4")
 parser.add_argument("--subdivisions", default="8,12", help="cells across the wall and along the height")
+parser.add_argument("--curves", help="also write the whole curves here, for the figure (doc/make_figures.sh): "
+                    "one block per m of 'reduction  upper bound  program' every 1 %%, blocks apart by two blank lines")
 args = parser.parse_args()
 
 
@@ -109,9 +111,17 @@ sigma0 = abs(quarter["boundary_force"]["1"][0]) / area
 k = sigma0 / math.sqrt(3)
 print("sigma_0 = %.2f MPa (the frictionless ring at 25 %%), k = %.3f MPa" % (sigma0, k))
 print("change of the inner diameter (%%) at %s %% reduction: upper bound (Avitzur) / program" % reductions)
+curves = open(args.curves, "w") if args.curves else None
 for m in args.m.split(","):
     bound = upper_bound_curve(float(m), reductions)
     status, summary, curve = program_curve(m, k)
+    if curves:
+        every = list(range(0, 51))
+        whole = upper_bound_curve(float(m), every)
+        curves.write("# m = %s: reduction (%%), change of the inner diameter (%%): upper bound, program\n" % m)
+        for r in every:
+            curves.write("%g %.4f %s\n" % (r, whole[r], ("%.4f" % curve[r]) if r in curve else "?"))
+        curves.write("\n\n")
     totals = summary["incremental"]
     cells = ", ".join("%+.2f / %s" % (bound[r], ("%+.2f" % curve[r]) if r in curve else "-") for r in reductions)
     print("m = %-4s exit %d, %d new meshes, wall %.1f s: %s" % (m, status, totals["remeshings"], summary["wall_time"], cells))

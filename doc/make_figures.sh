@@ -73,6 +73,28 @@ plot '$work/drawing.dat' using 1:4 with lines lw 2 title 'Avitzur upper bound (m
 GP
 echo "wrote doc/images/drawing-stress.png"
 
+# The ring test's calibration curves (doc/incremental.md): the change of the
+# inner diameter against the reduction, Avitzur's upper bound and the program
+# (parameters/ring-compression.prm with a Tresca friction factor m).
+python3 benchmarks/ring_upper_bound.py --program "$program" --curves "$work/ring.dat" > /dev/null
+gnuplot <<GP
+set terminal pngcairo size 900,620 font "sans,11"
+set output 'doc/images/ring-calibration.png'
+set xlabel 'height reduction (%)'
+set ylabel 'change of the inner diameter (%)'
+set title 'Ring compression 6:3:2 (parameters/ring-compression.prm): calibration curves, friction factor m'
+set key top left
+set grid
+set xrange [0:50]
+set style line 1 lc rgb '#1f77b4' lw 2
+set style line 2 lc rgb '#2ca02c' lw 2
+set style line 3 lc rgb '#ff7f0e' lw 2
+set style line 4 lc rgb '#d62728' lw 2
+plot for [i=0:3] '$work/ring.dat' index i using 1:2 with lines ls (i+1) dt 2 title sprintf('upper bound, m = %s', word("0 0.1 0.2 0.4", i+1)), \
+     for [i=0:3] '' index i using 1:3 every 2 with linespoints ls (i+1) pt 7 ps 0.6 title sprintf('dieflow, m = %s', word("0 0.1 0.2 0.4", i+1))
+GP
+echo "wrote doc/images/ring-calibration.png"
+
 # A genuinely 3D die (doc/three-dimensional.md): the contact pressure and the
 # stick / slip / separated map on the two die walls of parameters/rectbar3d.prm,
 # each wall unrolled onto its own plane (the y wall seen along y, the z wall
