@@ -10,8 +10,10 @@
 // time, stroke, forces, volume, cell shape, contact events, strain, to 8
 // digits) and the platen force at 50 % to 1e-12; the run's totals in
 // summary.json. Then the same from the checkpoint a SIGINT leaves between
-// steps (raised at the end of step 0: the step-0 state), and four bad
-// restarts, each one message naming the entry.
+// steps (raised at the end of step 0: the step-0 state), and six bad
+// restarts (another time step, no step left, not a checkpoint, no file,
+// another velocity degree, another dimension), each one message naming the
+// entry.
 #include <dieflow/base/interrupt.h>
 #include <dieflow/postprocess/summary.h>
 
@@ -180,4 +182,19 @@ main()
   std::ofstream("not-a-checkpoint.dat") << "load-stroke\n";
   refused("not a checkpoint", deck("bad", 0.5, "not-a-checkpoint.dat"), "not-a-checkpoint.dat");
   refused("no such file", deck("bad", 0.5, "missing.dat"), "missing.dat");
+  refused("another velocity degree",
+          deck("bad", 0.5, "first/checkpoint.dat") + "subsection Discretisation\n  set Velocity degree = 2\nend\n",
+          "first/checkpoint.dat");
+  // The same scene as a 3D block (plane strain, the third direction free).
+  std::string three_d = deck("bad", 0.5, "first/checkpoint.dat");
+  for (const auto &[from, to] : std::vector<std::pair<std::string, std::string>>{
+         {"set Geometry = axisymmetric\n", "set Dimension = 3\n"},
+         {"Lower corner = 0, 0\n", "Lower corner = 0, 0, 0\n"},
+         {"Upper corner = 5, 10\n", "Upper corner = 5, 10, 5\n"},
+         {"Subdivisions = 8, 16\n", "Subdivisions = 2, 4, 2\n"},
+         {"Traction free ids = 4\n", "Traction free ids = 4, 5, 6\n"},
+         {"Die velocities = 2: -5 0\n", "Die velocities = 2: -5 0 0\n"},
+         {"Remesh below Jacobian = 0.3\n", "Remesh below Jacobian = 0\n"}})
+    three_d.replace(three_d.find(from), from.size(), to);
+  refused("another dimension", three_d, "first/checkpoint.dat");
 }
