@@ -533,8 +533,9 @@ namespace dieflow
       // of the kernel killing the process (its OOM killer ended a 3D run of
       // 321,081 unknowns at 24 GB whose estimate had let it through). Until
       // a factorisation has mapped OpenBLAS's buffers the cap leaves room
-      // for them: it waits for ever where it cannot map them.
-      const AddressSpaceCap cap(free_bytes + (blas_buffers_mapped ? 0. : blas_buffer_bytes()));
+      // for them: it waits for ever where it cannot map them. No cap where
+      // the free memory is not known.
+      const AddressSpaceCap cap(free_bytes > 0 ? free_bytes + (blas_buffers_mapped ? 0. : blas_buffer_bytes()) : 0.);
       s.last_was_cholesky = cholesky && s.cholesky();
       factorised          = s.last_was_cholesky || s.lu();
     }
