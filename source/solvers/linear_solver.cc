@@ -527,14 +527,12 @@ namespace dieflow
     bool         factorised = false;
     s.out_of_memory         = false;
     {
-      // The estimate above is one of the analysis; what the factorisation
-      // takes is known only as it runs. Its allocations are capped at the
-      // memory free, so that one beyond it fails (and is reported) instead
-      // of the kernel killing the process (its OOM killer ended a 3D run of
-      // 321,081 unknowns at 24 GB whose estimate had let it through). Until
-      // a factorisation has mapped OpenBLAS's buffers the cap leaves room
-      // for them: it waits for ever where it cannot map them. No cap where
-      // the free memory is not known.
+      // What the factorisation takes is known only as it runs: its
+      // allocations are capped at the memory free (where known), so that
+      // one beyond the estimate fails and is reported instead of the kernel
+      // killing the process (doc/benchmarks.md, "Direct solves and the
+      // memory left"). Until a factorisation has mapped OpenBLAS's buffers
+      // the cap leaves room for them: it waits for ever where it cannot.
       const AddressSpaceCap cap(free_bytes > 0 ? free_bytes + (blas_buffers_mapped ? 0. : blas_buffer_bytes()) : 0.);
       s.last_was_cholesky = cholesky && s.cholesky();
       factorised          = s.last_was_cholesky || s.lu();
