@@ -3,9 +3,10 @@
 
 Runs the built test programs fuzz_mutated_decks and fuzz_extreme_decks_{a,b,c}
 (build/tests/NAME.release/NAME.release) in a temporary directory, the extreme
-ones with FUZZ_TABLE set so that they list every deck, and prints a Markdown
-section: the verdicts, the exit statuses of the extreme decks by seed, how
-they ended (the first words of each failure), and the wall time.
+ones with FUZZ_TABLE and FUZZ_COUNTS set so that they list every deck, and
+prints a Markdown section: the verdicts, the exit statuses of the extreme
+decks by seed, how those that exit 2 ended (the first words of each
+failure) and whether their advice, followed, converged, and the wall time.
 
     python3 benchmarks/fuzz_table.py [--build build]
 
@@ -33,23 +34,44 @@ def main():
         lines += ["    " + l for l in out.splitlines()]
         lines.append("")
         rows = []
-        for part in "abc":
+        for part in "abcd":
             table = os.path.join(work, "table-%s.md" % part)
             start = time.time()
             out = subprocess.run([program(args.build, "fuzz_extreme_decks_" + part)], cwd=work,
                                  capture_output=True, text=True,
-                                 env=dict(os.environ, FUZZ_TABLE=table)).stdout
+                                 env=dict(os.environ, FUZZ_TABLE=table, FUZZ_COUNTS="1")).stdout
             seconds = time.time() - start
             decks = [r.split("|") for r in open(table).read().splitlines()]
             status = collections.Counter(r[12].strip() for r in decks)
-            lines.append("Extreme decks `fuzz_extreme_decks_%s` (%.1f s): exit 0: %d, exit 2: %d, other: %d. %s"
+            lines.append("Extreme decks `fuzz_extreme_decks_%s` (%.1f s): exit 0: %d, exit 2: %d, other: %d.\n\n    %s\n"
                          % (part, seconds, status["0"], status["2"],
-                            len(decks) - status["0"] - status["2"], out.strip()))
+                            len(decks) - status["0"] - status["2"], out.strip().replace("\n", "\n    ")))
             rows += decks
+    # How the decks that exit 2 ended (the failure's first words), and
+    # whether the advice, followed, converged (tests/fuzz_extreme.h).
+    kinds = collections.defaultdict(lambda: [0, 0, 0])
+    for r in rows:
+        if r[12].strip() != "2":
+            continue
+        why = r[16].strip()
+        kind = ("the penalty lost the flow" if "penalty lost" in why else
+                "the contact did not settle" if "did not settle" in why else
+                "the iteration diverges" if "diverges" in why else
+                "the converged state breaks the contact conditions" if "breaks the contact" in why else
+                why.split(":")[1].strip()[:50] if ":" in why else why[:50])
+        kinds[kind][0] += 1
+        kinds[kind][1] += r[17].strip() != ""
+        kinds[kind][2] += r[17].strip() == "0"
+    lines.append("")
+    lines.append("| how the decks that exit 2 ended | decks | advice followed | then converged |")
+    lines.append("|---|---|---|---|")
+    for kind, (n, followed, good) in sorted(kinds.items(), key=lambda k: -k[1][0]):
+        lines.append("| %s | %d | %d | %d |" % (kind, n, followed, good))
     lines.append("")
     lines.append("| deck (seed/index) | die angle | reduction % | container mm | land mm | cells across | degree "
-                 "| mu container, die | ram speed mm/s | penalty factor | law | exit | mass loss | F_x[1] N/mm | checks |")
-    lines.append("|" + "---|" * 15)
+                 "| mu container, die | ram speed mm/s | penalty factor | law | exit | mass loss | F_x[1] N/mm | checks "
+                 "| failure (exit 2) | exit with the advice followed |")
+    lines.append("|" + "---|" * 17)
     for r in rows[:24]:
         lines.append("|".join(r))
     lines.append("")

@@ -65,7 +65,7 @@ namespace
     ContactSet<2> contact;
     contact.initialize(contact_parameters);
     contact.setup(wall_nodes, prescribed, false);
-    contact.set_scales(eta, lambda);
+    contact.set_scales(eta, lambda, 1.);
     FlowAssembler<2> flow(material, nullptr);
     FlowTerms<2>     terms;
     terms.penalty = lambda;

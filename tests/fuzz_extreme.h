@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
+#include <regex>
 
 namespace fuzz
 {
@@ -141,15 +142,80 @@ namespace fuzz
     return wrong;
   }
 
+  /// The first words of an exit-2 run's "failure" (for the table).
+  inline std::string
+  why(const Outcome &outcome)
+  {
+    if (outcome.status != 2)
+      return "";
+    try
+      {
+        std::string failure = summary("fuzz-extreme").get<std::string>("failure", "");
+        for (char &c : failure)
+          c = (c == '|' || c == '\n') ? ' ' : c;
+        return failure.substr(0, 160);
+      }
+    catch (const std::exception &)
+      {
+        return "";
+      }
+  }
+
+  /**
+   * The first change the exit-2 line @p failure advises that can be made
+   * to a deck without judgement, applied to @p deck (empty if none):
+   * "raise S/E (it is x) to y" sets y; "set S/E = a" sets a ("a or b":
+   * b, the regularised Coulomb law of the contact advice, which keeps the
+   * deck's mu); "lower S/E (it is x)" sets x / 100, "raise S/E (it is
+   * x)" 4 x. "refine the mesh at the die" and "lower Contact/Friction
+   * coefficients" ask for a judgement and are not applied.
+   */
+  inline std::string
+  apply_advice(const std::string &failure, std::string deck)
+  {
+    static const std::regex advice(
+      R"((raise|lower|set) ([A-Z][A-Za-z ]*)/([A-Z][A-Za-z ]*?)(?: \(it is ([-0-9.e+]+)\))?(?: to ([-0-9.e+]+)| = ([^,;]+))?(?=[,;]|$))");
+    for (auto m = std::sregex_iterator(failure.begin(), failure.end(), advice); m != std::sregex_iterator(); ++m)
+      {
+        const std::string verb = (*m)[1], section = (*m)[2], entry = (*m)[3], now = (*m)[4];
+        std::string       value;
+        if ((*m)[5].matched)
+          value = (*m)[5];
+        else if ((*m)[6].matched)
+          {
+            value = (*m)[6];
+            if (const auto o = value.rfind(" or "); o != std::string::npos)
+              value = value.substr(o + 4);
+          }
+        else if (!now.empty())
+          {
+            std::ostringstream v;
+            v << std::stod(now) * (verb == "lower" ? 0.01 : 4);
+            value = v.str();
+          }
+        if (value.empty() || verb == "set" && !(*m)[6].matched)
+          continue;
+        const std::regex line("\n *set " + entry + " = [^\n]*");
+        if (std::smatch found; std::regex_search(deck, found, line))
+          return found.prefix().str() + "\n  set " + entry + " = " + value + found.suffix().str();
+        return deck + "subsection " + section + "\n  set " + entry + " = " + value + "\nend\n";
+      }
+    return "";
+  }
+
   /**
    * Runs @p count decks from @p seed and prints the verdicts, and whether
-   * at least @p least_converged of them converged. With
+   * at least @p least_converged of them converged; then applies the
+   * advice of each one that exits 2 (apply_advice()) and runs it again:
+   * at least @p least_advised of those must converge. Decks before @p
+   * first are drawn but not run (a corpus split over two tests). With
    * FUZZ_TABLE=file, also a Markdown row per deck (for doc/stress.md; the
    * statuses are not printed here: which extreme deck converges may change
    * with the round-off of another BLAS, the verdicts must not).
    */
   inline void
-  run_extreme_corpus(unsigned int seed, unsigned int count, const unsigned int least_converged)
+  run_extreme_corpus(unsigned int seed, unsigned int count, const unsigned int least_converged,
+                     const unsigned int least_advised, const unsigned int first = 0)
   {
     // FUZZ_SEED / FUZZ_COUNT draw another corpus, to explore by hand.
     if (const char *s = std::getenv("FUZZ_SEED"))
@@ -158,13 +224,15 @@ namespace fuzz
       count = std::stoul(c);
     Draw                     draw(seed);
     std::vector<std::string> failures;
-    unsigned int             converged = 0;
+    unsigned int             converged = 0, given_up = 0, advised = 0, advice_converged = 0;
     std::ofstream            table;
     if (const char *file = std::getenv("FUZZ_TABLE"))
       table.open(file, std::ios::app);
     for (unsigned int i = 0; i < count; ++i)
       {
         const ExtremeDeck deck    = draw_deck(draw);
+        if (i < first)
+          continue; // drawn, run by another part
         std::filesystem::remove_all("fuzz-extreme");
         const Outcome     outcome = run("extreme.prm", deck.text());
         std::string       row;
@@ -172,22 +240,48 @@ namespace fuzz
         converged += outcome.status == 0 && wrong.empty();
         if (!wrong.empty())
           failures.push_back("deck " + std::to_string(i) + ": " + wrong + "\n" + deck.text());
+        const std::string reason = why(outcome);
+        // The advice of a deck that gave up, followed.
+        std::string after_advice;
+        if (outcome.status == 2)
+          {
+            ++given_up;
+            const std::string changed =
+              apply_advice(summary("fuzz-extreme").get<std::string>("failure", ""), deck.text());
+            if (!changed.empty())
+              {
+                ++advised;
+                std::filesystem::remove_all("fuzz-extreme");
+                const Outcome again = run("extreme.prm", changed);
+                std::string   ignored;
+                const bool    good = again.status == 0 && judge(deck, again, ignored).empty();
+                advice_converged += good;
+                after_advice = good ? "0" : std::to_string(again.status);
+              }
+          }
         if (table.is_open())
           table << "| " << seed << "/" << i << " | " << std::setprecision(3) << deck.die_angle << " | "
                 << 100 * (1 - deck.outlet_half_height / 19) << " | " << deck.container_length << " | "
                 << deck.land_length << " | " << deck.cells_across << " | " << deck.velocity_degree << " | "
                 << deck.mu_container << ", " << deck.mu_die << " | " << deck.speed << " | " << deck.penalty_factor
                 << " | " << (deck.newtonian ? std::string("Newtonian") : "m = " + std::to_string(deck.rate_sensitivity).substr(0, 5))
-                << " | " << outcome.status << " | " << row << " | " << (wrong.empty() ? "yes" : "NO") << " |\n";
+                << " | " << outcome.status << " | " << row << " | " << (wrong.empty() ? "yes" : "NO") << " | " << reason << " | " << after_advice << " |\n";
       }
-    std::cout << count << " extreme decks (seed " << seed
+    std::cout << count - first << " extreme decks (seed " << seed << (first > 0 ? ", from deck " + std::to_string(first) : std::string())
               << "): every one exits 0 or 2 with a readable summary.json, every converged one passes the physical "
                  "checks, every other says why: "
               << (failures.empty() ? "yes" : "NO") << std::endl;
     // Without a bound below, a corpus in which every deck exits 2 would
     // pass: the verdicts above hold for any deck that gives up.
-    std::cout << "at least " << least_converged << " of the " << count
+    std::cout << "at least " << least_converged << " of the " << count - first
               << " converge (and pass the checks): " << (converged >= least_converged ? "yes" : "NO") << std::endl;
+    // Advice that, followed, does not converge is no advice.
+    std::cout << "of those that do not converge, those whose advice can be followed without judgement converge "
+                 "when it is, at least "
+              << least_advised << ": " << (advice_converged >= least_advised ? "yes" : "NO") << std::endl;
+    if (std::getenv("FUZZ_COUNTS"))
+      std::cout << "counts: converged " << converged << ", exit 2 " << given_up << ", advice followed " << advised
+                << ", then converged " << advice_converged << std::endl;
     for (const auto &failure : failures)
       std::cout << failure << std::endl;
   }

@@ -75,9 +75,11 @@ namespace dieflow
                       "pressure disturbance of about 1/factor of the wall shear; "
                       "hence a multiple of lambda.");
     prm.declare_entry("Regularisation velocity",
-                      "1",
+                      "0",
                       Double(0),
-                      "v0 (mm/s) of the regularised Coulomb law.");
+                      "v0 (mm/s) of the regularised Coulomb law; 0: a hundredth of "
+                      "the largest prescribed or die speed, so that a run at "
+                      "another speed is the same problem scaled.");
     prm.declare_entry("Active set constant",
                       "1",
                       Double(0),
@@ -180,9 +182,6 @@ namespace dieflow
     require(!(uses_penalty() && normal_penalty_factor <= 0 && !die_ids.empty()),
             "Contact/Normal penalty factor",
             "must be positive for Normal enforcement = penalty");
-    require(!(law == FrictionLaw::Kind::regularised_coulomb && regularisation_velocity <= 0),
-            "Contact/Regularisation velocity",
-            "must be positive for the regularised Coulomb law");
     prm.leave_subsection();
   }
 
@@ -210,8 +209,10 @@ namespace dieflow
             changes.emplace_back("lower Contact/Tresca friction factors");
           break;
         case FrictionLaw::Kind::regularised_coulomb:
-          changes.emplace_back("raise Contact/Regularisation velocity (it is " + deck_number(regularisation_velocity) +
-                               ")");
+          changes.emplace_back(regularisation_velocity > 0 ?
+                                 "raise Contact/Regularisation velocity (it is " + deck_number(regularisation_velocity) + ")" :
+                                 "set Contact/Regularisation velocity to a tenth of the largest speed (it is 0: a "
+                                 "hundredth)");
           if (any_positive(friction_coefficient))
             changes.emplace_back("lower Contact/Friction coefficients");
           break;

@@ -101,7 +101,9 @@ namespace dieflow
     FrictionLaw law             = parameters->law_of(direction.wall.id, direction.wall.weight);
     law.kind                    = direction.regularised ? FrictionLaw::Kind::regularised_coulomb : parameters->law;
     law.tangential_penalty      = penalty_of(parameters->tangential_penalty_factor, direction.wall);
-    law.regularisation_velocity = direction.regularised ? cycling_velocity : parameters->regularisation_velocity;
+    law.regularisation_velocity = direction.regularised                    ? cycling_velocity :
+                                  parameters->regularisation_velocity > 0 ? parameters->regularisation_velocity :
+                                                                            0.01 * speed_scale;
     law.slip_floor              = 1e-9 * largest_speed;
     // 3D slip: the semismooth Newton method on the carried friction force
     // (ContactElement::friction()), from the first state update that gives

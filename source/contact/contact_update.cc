@@ -351,8 +351,10 @@ namespace dieflow
             dir.held_in_contact = true;
           }
         // v0: a hundredth of the largest speed, so that Newton can follow
-        // the smooth law.
-        cycling_velocity = std::max(parameters->regularisation_velocity, 0.01 * v.linfty_norm());
+        // the smooth law. Relative, not the deck's Regularisation velocity
+        // (mm/s): a die pushed at 1e-6 mm/s is the same problem as at 1
+        // mm/s, and an absolute v0 of 1 mm/s took its friction away.
+        cycling_velocity = v.linfty_norm() > 0 ? 0.01 * v.linfty_norm() : parameters->regularisation_velocity;
         for (const auto &[i, k] : changed_tangential)
           nodes[i].directions[k].regularised = true;
         log << "    contact states cycle: " << changed_normal.size() << " direction(s) held in contact, "

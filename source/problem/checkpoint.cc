@@ -111,9 +111,9 @@ namespace dieflow
 
     incremental.record_ram_start(triangulation, parameters.goal_part());
     const double eta = incompressibility.viscosity_scale();
-    contact.set_scales(eta, parameters.material.penalty_factor * eta);
-    contact_states_valid = true;
     prescribed_speed     = parameters.boundary_conditions.largest_prescribed_speed(dof_handler);
+    contact.set_scales(eta, parameters.material.penalty_factor * eta, prescribed_speed);
+    contact_states_valid = true;
     // The contact set of step n, its states restored: the move to step n + 1
     // keeps the nodes in contact on their die (ContactSet::vertex_status()).
     incremental.current_step = n;

@@ -1,4 +1,5 @@
 // The die-flow problem's run: the cycles (refinement cycles, or steps in time), each solved, reported and judged.
+#include <algorithm>
 #include <dieflow/base/atomic_file.h>
 #include <dieflow/base/interrupt.h>
 #include <dieflow/base/threads.h>
@@ -257,6 +258,9 @@ namespace dieflow
                     in_time ? parameters.time_stepping.time(cycle_summary.cycle) : cycle_summary.cycle,
                     cycle_summary);
     }
+    if (!law_warning.empty() &&
+        std::find(summary.warnings.begin(), summary.warnings.end(), law_warning) == summary.warnings.end())
+      summary.warnings.push_back(law_warning);
     const auto fail = [&](const GuardVerdict &verdict) {
       if (!verdict.warning.empty())
         {

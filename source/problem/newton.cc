@@ -194,6 +194,21 @@ namespace dieflow
         if (reference_rate == 0)
           reference_rate = 1;
       }
+    // The regularisation epsdot_min is an absolute rate: far from below the
+    // process's rates it turns the law Newtonian (a die pushed at 1e-6 mm/s
+    // with the default 1e-4 1/s), a model the user did not ask for.
+    const double process_rate = prescribed_speed / dealii::GridTools::diameter(triangulation);
+    if (!material.is_newtonian() && process_rate > 0 && material.minimum_strain_rate > 1e-2 * process_rate)
+      {
+        std::ostringstream warning;
+        warning << "Material/Minimum strain rate (" << material.minimum_strain_rate
+                << " 1/s) is not well below the process's strain rate (largest prescribed speed / size = "
+                << std::setprecision(3) << process_rate
+                << " 1/s): where the metal deforms slower than it, the law is Newtonian; lower it";
+        if (law_warning != warning.str())
+          log << "  warning: " << warning.str() << std::endl;
+        law_warning = warning.str();
+      }
     const double start_viscosity = material.evaluate(reference_rate).eta;
     velocity.reinit(dof_handler.n_dofs());
     constraints.distribute(velocity);
@@ -202,7 +217,7 @@ namespace dieflow
         // The law is the Newtonian problem: the nonlinear solver's first
         // step solves it.
         incompressibility.set_viscosity_scale(start_viscosity);
-        contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity);
+        contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity, prescribed_speed);
         log << "  " << incompressibility.name() << " = " << incompressibility.factor() << " x viscosity "
             << start_viscosity << " = " << incompressibility.penalty() << " MPa s" << std::endl;
         incompressibility.uniform_cell_penalty(incompressibility.penalty());
@@ -214,7 +229,7 @@ namespace dieflow
     FlowAssembler<dim> start(newtonian, nullptr);
     start.copy_loads(assembler);
     const double start_penalty = incompressibility.factor() * start_viscosity;
-    contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity);
+    contact.set_scales(start_viscosity, material.penalty_factor * start_viscosity, prescribed_speed);
     {
       dealii::TimerOutput::Scope scope(timer, "assembly");
       const FlowTerms<dim>       terms = incompressibility.start_terms(start_penalty, velocity);
@@ -227,7 +242,7 @@ namespace dieflow
     ++start_solves;
     const double mean_viscosity = assembler.mean_viscosity(dof_handler, velocity);
     incompressibility.finish_start(start_penalty, mean_viscosity, velocity);
-    contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity);
+    contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity, prescribed_speed);
     contact_states_valid = true;
     log << "  Newtonian start: eta = " << std::setprecision(4) << start_viscosity << " MPa s; "
         << incompressibility.name() << " = " << incompressibility.factor() << " x mean viscosity " << mean_viscosity

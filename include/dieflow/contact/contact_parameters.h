@@ -40,7 +40,7 @@ namespace dieflow
     double                       shear_flow_stress         = 0;
     double                       normal_penalty_factor     = 1;
     double                       tangential_penalty_factor = 100;
-    double                       regularisation_velocity   = 1;
+    double                       regularisation_velocity   = 0;
     double                       active_set_constant       = 1;
     /// Die ids whose die is a surface mesh of its own (Gmsh file names).
     std::map<BoundaryId, std::string> die_surface_files;

@@ -153,13 +153,20 @@ namespace dieflow
     load(InputArchive &ar);
 
 
-    /// eta_m, the viscosity scale of c, and lambda, the incompressibility
-    /// penalty that omega_n and omega_t are multiples of.
+    /// eta_m, the viscosity scale of c; lambda, the incompressibility
+    /// penalty that omega_n and omega_t are multiples of; the largest
+    /// prescribed speed, which with the dies' speeds sets the speed scale
+    /// of the regularised Coulomb law's default v0.
     void
-    set_scales(const double eta, const double lambda)
+    set_scales(const double eta, const double lambda, const double prescribed_speed)
     {
-      viscosity_scale  = eta;
-      penalty_scale    = lambda;
+      viscosity_scale = eta;
+      penalty_scale   = lambda;
+      speed_scale     = prescribed_speed;
+      for (const auto &[id, velocity] : die_velocity)
+        speed_scale = std::max(speed_scale, velocity.norm());
+      if (!(speed_scale > 0))
+        speed_scale = 1;
     }
 
     /**
@@ -324,6 +331,8 @@ namespace dieflow
     std::vector<StateRecord>   restored_states;
     double                     viscosity_scale = 1;
     double                     penalty_scale   = 1;
+    /// The largest prescribed or die speed (1 if nothing moves).
+    double                     speed_scale     = 1;
     /// v0 of the friction laws regularised because their states cycled.
     double                     cycling_velocity = 1;
     /// The largest speed of the last update (the 3D slip floor's scale).

@@ -241,6 +241,8 @@ namespace dieflow
     double       last_roundoff_bound = 0;
     double       prescribed_speed    = 0;
     unsigned int start_solves        = 0;
+    /// newtonian_start()'s word on the law's regularisation, for summary.json.
+    std::string  law_warning;
   };
 } // namespace dieflow
 
