@@ -44,6 +44,17 @@ namespace dieflow
                       "Coulomb: |F_t| <= mu |F_n| (stick below, slip at the bound). "
                       "Tresca: |tau| <= m k. regularised Coulomb: tau = -mu |sigma_n| "
                       "(2/pi) atan(v_t / v0), smooth, without stick.");
+    prm.declare_entry("Coulomb coupling",
+                      "auto",
+                      Selection("auto|Newton|fixed point"),
+                      "How the Coulomb bound mu |F_n| follows the normal force. "
+                      "Newton: linearised with it (quadratic near the solution). "
+                      "fixed point: frozen at the last iteration's normal force, a "
+                      "Tresca law whose bound each iteration renews; Coulomb at "
+                      "convergence, slower, but it holds for dies with mu of order 1 "
+                      "and above, where the linearised coupling makes the contact "
+                      "states cycle. auto: Newton until the states cycle, then the "
+                      "fixed point (on each mesh).");
     prm.declare_entry("Friction coefficients",
                       "3: 0.001, 4: 0.1",
                       Anything(),
@@ -120,6 +131,10 @@ namespace dieflow
     die_ids            = parse_id_list("Contact/Die ids", prm.get("Die ids"));
     normal_enforcement = prm.get("Normal enforcement") == "penalty" ? NormalEnforcement::penalty : NormalEnforcement::active_set;
     stick_enforcement  = prm.get("Stick") == "penalty" ? StickEnforcement::penalty : StickEnforcement::exact;
+    const std::string coupling = prm.get("Coulomb coupling");
+    coulomb_coupling           = coupling == "fixed point" ? CoulombCoupling::fixed_point :
+                                 coupling == "Newton"      ? CoulombCoupling::newton :
+                                                             CoulombCoupling::automatic;
     const std::string law_name = prm.get("Friction law");
     law = (law_name == "Coulomb") ? FrictionLaw::Kind::coulomb :
           (law_name == "Tresca")  ? FrictionLaw::Kind::tresca :
@@ -199,6 +214,8 @@ namespace dieflow
     switch (law)
       {
         case FrictionLaw::Kind::coulomb:
+          if (coulomb_coupling != CoulombCoupling::fixed_point && any_positive(friction_coefficient))
+            changes.emplace_back("set Contact/Coulomb coupling = fixed point");
           changes.emplace_back("set Contact/Friction law = Tresca or regularised Coulomb");
           if (any_positive(friction_coefficient))
             changes.emplace_back("lower Contact/Friction coefficients");

@@ -101,6 +101,13 @@ namespace dieflow
     FrictionLaw law             = parameters->law_of(direction.wall.id, direction.wall.weight);
     law.kind                    = direction.regularised ? FrictionLaw::Kind::regularised_coulomb : parameters->law;
     law.tangential_penalty      = penalty_of(parameters->tangential_penalty_factor, direction.wall);
+    if (law.kind == FrictionLaw::Kind::coulomb && !uses_penalty() &&
+        (parameters->coulomb_coupling == ContactParameters::CoulombCoupling::fixed_point || direction.bound_frozen))
+      {
+        // Tresca with the bound of the last reaction: no F_n in the tangent.
+        law.shear_bound = law.bound(direction.normal_force);
+        law.kind        = FrictionLaw::Kind::tresca;
+      }
     law.regularisation_velocity = direction.regularised                    ? cycling_velocity :
                                   parameters->regularisation_velocity > 0 ? parameters->regularisation_velocity :
                                                                             0.01 * speed_scale;
@@ -270,6 +277,7 @@ namespace dieflow
                                            0,
                                            false,
                                            false,
+                                           false,
                                            approach});
                 if (keep_state && !approach)
                   inherit(wall_node.position, node.directions.back());
@@ -282,6 +290,7 @@ namespace dieflow
     };
     nodes.clear();
     recent_signatures.clear();
+
     add_nodes(die_nodes, false);
     add_nodes(approaching, true);
   }

@@ -341,8 +341,38 @@ namespace dieflow
     for (const auto &node : nodes)
       for (const auto &dir : node.directions)
         signature = signature * 1000003u ^ (dir.active * 7 + static_cast<int>(dir.status) * 2 + (dir.slip_direction[0] > 0));
-    if (changes.total() > 0 &&
-        std::find(recent_signatures.begin(), recent_signatures.end(), signature) != recent_signatures.end())
+    const bool cycled = changes.total() > 0 && std::find(recent_signatures.begin(), recent_signatures.end(),
+                                                         signature) != recent_signatures.end();
+    // A cycle under Newton's coupling of the Coulomb bound to F_n: the
+    // directions that changed get the bound frozen at each iteration's
+    // normal force (at a die with mu of order 1, a small pull times mu
+    // reverses the friction of the linearised step, and whole lands flip
+    // between pulling and penetrating). The fixed point is Coulomb's
+    // solution; only directions that cycle again are held or regularised.
+    if (cycled && !penalty && parameters->coulomb_coupling == ContactParameters::CoulombCoupling::automatic &&
+        parameters->law == FrictionLaw::Kind::coulomb)
+      {
+        unsigned int frozen = 0;
+        for (const auto &changed : {changed_normal, changed_tangential})
+          for (const auto &[i, k] : changed)
+            {
+              Direction &dir = nodes[i].directions[k];
+              if (!dir.bound_frozen && !dir.regularised && law_of(dir).mu > 0)
+                {
+                  dir.bound_frozen = true;
+                  ++frozen;
+                }
+            }
+        if (frozen > 0)
+          {
+            recent_signatures.clear();
+            log << "    contact states cycle: " << frozen
+                << " Coulomb bound(s) frozen at each iteration's normal force (Contact/Coulomb coupling = auto)"
+                << std::endl;
+            return changes;
+          }
+      }
+    if (cycled)
       {
         for (const auto &[i, k] : changed_normal)
           {

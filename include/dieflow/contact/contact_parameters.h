@@ -32,7 +32,21 @@ namespace dieflow
       /// the paper's F_t = -omega_t v_t
       penalty
     };
+    /// How Coulomb's bound mu |F_n| follows the normal force in Newton's
+    /// iteration.
+    enum class CoulombCoupling
+    {
+      /// linearised with it: T = I + b n^T (ContactSet::contributions())
+      newton,
+      /// frozen at the last iteration's normal force: a Tresca law whose
+      /// bound mu max(-F_n, 0) each iteration renews (Coulomb at the fixed
+      /// point)
+      fixed_point,
+      /// Newton until the states cycle, then the fixed point (per mesh)
+      automatic
+    };
     NormalEnforcement            normal_enforcement = NormalEnforcement::active_set;
+    CoulombCoupling              coulomb_coupling   = CoulombCoupling::automatic;
     StickEnforcement             stick_enforcement  = StickEnforcement::exact;
     FrictionLaw::Kind            law                = FrictionLaw::Kind::coulomb;
     std::map<BoundaryId, double> friction_coefficient;

@@ -269,6 +269,10 @@ namespace dieflow
       bool                held_in_contact;
       /// ... or its friction law becomes the regularised one.
       bool                regularised;
+      /// Cycling under Contact/Coulomb coupling = auto, first: the Coulomb
+      /// bound frozen at each update's normal force (Coulomb at the fixed
+      /// point, so no break of the law).
+      bool                bound_frozen;
       /// A free-surface node approaching the die (its gap rate in wall).
       bool                approaching;
     };
