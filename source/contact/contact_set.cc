@@ -290,7 +290,6 @@ namespace dieflow
     };
     nodes.clear();
     recent_signatures.clear();
-
     add_nodes(die_nodes, false);
     add_nodes(approaching, true);
   }

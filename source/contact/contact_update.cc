@@ -357,7 +357,7 @@ namespace dieflow
           for (const auto &[i, k] : changed)
             {
               Direction &dir = nodes[i].directions[k];
-              if (!dir.bound_frozen && !dir.regularised && law_of(dir).mu > 0)
+              if (!dir.bound_frozen && !dir.regularised && parameters->friction_coefficient_of(dir.wall.id) > 0)
                 {
                   dir.bound_frozen = true;
                   ++frozen;

@@ -185,19 +185,14 @@ namespace dieflow
     // The velocity of a Newtonian, velocity-driven problem does not depend on
     // the viscosity's value; the law's viscosity at a typical strain rate
     // keeps forces and tractions (body force, Tresca) on the right scale.
-    prescribed_speed      = parameters.boundary_conditions.largest_prescribed_speed(dof_handler);
-    double reference_rate = material.reference_strain_rate;
+    prescribed_speed          = parameters.boundary_conditions.largest_prescribed_speed(dof_handler);
+    const double process_rate = prescribed_speed / dealii::GridTools::diameter(triangulation);
+    double       reference_rate = material.reference_strain_rate;
     if (reference_rate == 0)
-      {
-        const double diameter = dealii::GridTools::diameter(triangulation);
-        reference_rate        = prescribed_speed / diameter;
-        if (reference_rate == 0)
-          reference_rate = 1;
-      }
+      reference_rate = process_rate == 0 ? 1 : process_rate;
     // The regularisation epsdot_min is an absolute rate: far from below the
     // process's rates it turns the law Newtonian (a die pushed at 1e-6 mm/s
     // with the default 1e-4 1/s), a model the user did not ask for.
-    const double process_rate = prescribed_speed / dealii::GridTools::diameter(triangulation);
     if (!material.is_newtonian() && process_rate > 0 && material.minimum_strain_rate > 1e-2 * process_rate)
       {
         std::ostringstream warning;
