@@ -69,6 +69,11 @@ for iterations in ("0", "40"):
                 f = c["free_surface"]
                 line += ", %d moves, %d free faces, settled %s, wall %.1f s" % (f["moves"], f["free_faces"], f["settled"],
                                                                              summary["wall_time"])
+                if f.get("lines"):
+                    main = max(f["lines"], key=lambda l: len(l["points"]))
+                    line += "; leaves id %d at x %.3f, ends on id %d at x %.3f, y %.4f; grazing flux %.2f %%" % (
+                        main["leaves"], main["from"][0], main["ends"], main["to"][0], main["to"][1],
+                        100 * f["grazing_flux"] / -flux["1"])
             print(line)
 
 if args.gmsh:

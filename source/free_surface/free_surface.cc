@@ -4,6 +4,8 @@
 #include <dieflow/mesh/mesh_motion.h>
 #include <dieflow/mesh/boundary_loops.h>
 
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_tools.h>
 
 #include <algorithm>
@@ -26,10 +28,11 @@ namespace dieflow
                       "0: the domain stays as meshed, and the metal leaves a die in "
                       "velocity only (the mass-balance warning of a die's flux).");
     prm.declare_entry("Tolerance",
-                      "1e-3",
+                      "1e-5",
                       dealii::Patterns::Double(0),
                       "The free surface has settled when no node of it would move more "
-                      "than this part of the shorter of its two boundary edges.");
+                      "than this part of the free surface's length (its own scale, not "
+                      "the mesh's).");
     prm.declare_entry("Free surface ids",
                       "",
                       dealii::Patterns::List(dealii::Patterns::Integer(0, 255)),
@@ -61,9 +64,10 @@ namespace dieflow
 
   void
   FreeSurface::initialize(const dealii::Triangulation<2> &mesh, const std::set<BoundaryId> &die_ids,
-                          const FreeSurfaceParameters &free_surface_parameters)
+                          const FreeSurfaceParameters &free_surface_parameters, const bool axisymmetric_geometry)
   {
-    parameters = free_surface_parameters;
+    parameters   = free_surface_parameters;
+    axisymmetric = axisymmetric_geometry;
     dies.clear();
     const auto &x = mesh.get_vertices();
     for (const auto &loop : boundary_loops(mesh, "Free surface/Iterations"))
@@ -108,9 +112,6 @@ namespace dieflow
 
   namespace
   {
-    /// The largest move of a node per move(), over its edge's length.
-    constexpr double largest_step = 0.25;
-
     /// The velocity at every vertex of the mesh.
     std::vector<Tensor<1, 2>>
     vertex_velocities(const dealii::DoFHandler<2> &dof_handler, const dealii::Vector<double> &velocity)
@@ -123,11 +124,60 @@ namespace dieflow
       return v;
     }
 
+    /**
+     * The mean of the velocity over each boundary face, weighted by r in
+     * axisymmetric runs: a straight face along it has no flux, int v.n
+     * (2 pi r) ds = n . int v r ds = 0, whatever the velocity degree.
+     */
+    std::map<unsigned int, Tensor<1, 2>>
+    face_mean_velocities(const dealii::DoFHandler<2> &dof_handler, const dealii::Vector<double> &velocity,
+                         const bool axisymmetric)
+    {
+      const dealii::QGauss<1>       quadrature(dof_handler.get_fe().degree + 1);
+      dealii::FEFaceValues<2>       fe_face(dof_handler.get_fe(), quadrature,
+                                      dealii::update_values | dealii::update_quadrature_points | dealii::update_JxW_values);
+      const dealii::FEValuesExtractors::Vector v(0);
+      std::vector<Tensor<1, 2>>     values(quadrature.size());
+      std::map<unsigned int, Tensor<1, 2>> mean;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            {
+              fe_face.reinit(cell, f);
+              fe_face[v].get_function_values(velocity, values);
+              Tensor<1, 2> sum;
+              double       weight = 0;
+              for (unsigned int q = 0; q < quadrature.size(); ++q)
+                {
+                  const double w = fe_face.JxW(q) * (axisymmetric ? fe_face.quadrature_point(q)[1] : 1.);
+                  sum += w * values[q];
+                  weight += w;
+                }
+              mean[cell->face(f)->index()] = weight > 0 ? sum / weight : sum;
+            }
+      return mean;
+    }
+
     Tensor<1, 2>
     outward_normal(const dealii::Point<2> &a, const dealii::Point<2> &b)
     {
       const Tensor<1, 2> along = b - a;
       return Tensor<1, 2>({along[1], -along[0]}) / along.norm();
+    }
+
+    double
+    cross(const Tensor<1, 2> &a, const Tensor<1, 2> &b)
+    {
+      return a[0] * b[1] - a[1] * b[0];
+    }
+
+    /// Puts every vertex of @p mesh at @p x (undoing a move).
+    void
+    set_vertices(dealii::Triangulation<2> &mesh, const std::vector<dealii::Point<2>> &x)
+    {
+      for (const auto &cell : mesh.cell_iterators())
+        for (const unsigned int i : cell->vertex_indices())
+          cell->vertex(i) = x[cell->vertex_index(i)];
     }
   } // namespace
 
@@ -140,6 +190,7 @@ namespace dieflow
   {
     const std::vector<dealii::Point<2>> x = mesh.get_vertices();
     const std::vector<Tensor<1, 2>>     v = vertex_velocities(dof_handler, velocity);
+    const auto mean_velocity = face_mean_velocities(dof_handler, velocity, axisymmetric);
     // A die face is held where a node's direction of that die, of the face's normal, is not separated.
     const auto held = [&](const unsigned int vertex, const BoundaryId id, const Tensor<1, 2> &normal) {
       for (const auto &r : results)
@@ -158,10 +209,7 @@ namespace dieflow
     std::map<unsigned int, BoundaryId>       face_ids;
     std::vector<BoundaryEdge>                surface;
     FreeSurfaceMove                          result;
-    const auto place = [&](const unsigned int vertex, const dealii::Point<2> &p, const double edge) {
-      placed[vertex]  = p;
-      result.largest = std::max(result.largest, p.distance(x[vertex]) / edge);
-    };
+    double                                   surface_length = 0;
 
     for (const auto &loop : boundary_loops(mesh, "Free surface/Iterations"))
       {
@@ -194,6 +242,13 @@ namespace dieflow
             };
             const unsigned int m = nodes.size() - 1;
             const bool         reversed = into(m, m - 1) > into(0, 1);
+            // The free stretch as it lies now, from where it leaves the part before it.
+            FreeSurfaceLine line_now;
+            line_now.leaves = loop[reversed ? (k + edges.size()) % n : (k + n - 1) % n].id;
+            line_now.ends   = loop[reversed ? (k + n - 1) % n : (k + edges.size()) % n].id;
+            for (unsigned int i = 0; i <= m; ++i)
+              line_now.points.push_back(x[nodes[reversed ? m - i : i]]);
+            result.lines.push_back(line_now);
             unsigned int       after    = (edges.back() + 1) % n;
             if (reversed)
               {
@@ -205,83 +260,172 @@ namespace dieflow
             // die again there, or leave it: the march puts their nodes back
             // onto it where the flow goes into it), to the next other part.
             const auto downstream = [&](const unsigned int i) { return reversed ? (i + n - 1) % n : (i + 1) % n; };
+            const unsigned int free_edges = edges.size();
             while (die_ids.count(loop[after].id) && !is_free[after] && edges.size() < n)
               {
                 nodes.push_back(reversed ? loop[after].a : loop[after].b);
                 edges.push_back(after);
                 after = downstream(after);
               }
-            const bool       end_moves = edges.size() < n && !is_free[after];
-            dealii::Point<2> here      = x[nodes[0]];
+            const bool         end_moves = edges.size() < n && !is_free[after];
+            const unsigned int end       = nodes.back();
+            // The straight boundary after the stretch (the outlet): its
+            // nodes, and its direction, the spine of the stretch's end.
+            std::vector<unsigned int> line;
+            const Tensor<1, 2> first = reversed ? x[loop[after].a] - x[end] : x[loop[after].b] - x[end];
+            if (end_moves)
+              for (unsigned int i = after, count = 0; !is_free[i] && count < n; i = downstream(i), ++count)
+                {
+                  const unsigned int far = reversed ? loop[i].a : loop[i].b;
+                  const Tensor<1, 2> to  = x[far] - x[end];
+                  if (loop[i].id != loop[after].id || std::abs(cross(first, to)) > 1e-9 * first.norm() * to.norm())
+                    break;
+                  line.push_back(far);
+                }
+            // Each node moves along its spine: the outward normal of the
+            // surface where the node first took part in a move on this mesh
+            // (the outlet's line for the end), not along the surface.
+            for (unsigned int i = 1; i < nodes.size(); ++i)
+              if (!spines.count(nodes[i]))
+                {
+                  const Tensor<1, 2> before = outward_normal(x[nodes[i - 1]], x[nodes[i]]) * (reversed ? -1. : 1.);
+                  const Tensor<1, 2> next =
+                    i + 1 < nodes.size() ? outward_normal(x[nodes[i]], x[nodes[i + 1]]) * (reversed ? -1. : 1.) : before;
+                  spines[nodes[i]] = (before + next) / (before + next).norm();
+                }
+            double length = 0;
+            for (unsigned int i = 0; i + 1 < nodes.size(); ++i)
+              length += x[nodes[i]].distance(x[nodes[i + 1]]);
+            surface_length += length;
+
+            // The march: node i + 1 goes onto its spine where the edge from
+            // the moved node i lies along the mean velocity of the edge
+            // (its flux then vanishes).
+            dealii::Point<2> here        = x[nodes[0]];
+            bool             back_on_die = false;
             for (unsigned int i = 0; i + 1 < nodes.size(); ++i)
               {
                 const unsigned int a = nodes[i], b = nodes[i + 1];
-                const Tensor<1, 2> old_edge = x[b] - x[a];
-                const double       length   = old_edge.norm();
                 if (i + 2 == nodes.size() && !end_moves)
                   break;
-                const Tensor<1, 2> flow = v[a] + v[b];
-                const Tensor<1, 2> along = flow / flow.norm();
-                // Against the flow or across it (a stagnation point): the edge as it was.
-                const Tensor<1, 2> edge = old_edge * along > 0 ? Tensor<1, 2>((old_edge * along) * along) : old_edge;
-                dealii::Point<2>   next = here + edge;
-                const Nearest      die  = nearest_die(next);
+                const Tensor<1, 2> old_edge = x[b] - x[a];
+                const unsigned int face     = loop[edges[i]].face;
+                const Tensor<1, 2> flow = mean_velocity.count(face) ? mean_velocity.at(face) : v[a] + v[b];
+                const Tensor<1, 2> spine = (b == end && !line.empty()) ? first / first.norm() : spines.at(b);
+                dealii::Point<2>   next  = here + old_edge;
+                if (flow.norm() > 0 && std::abs(cross(flow, spine)) > 0.1 * flow.norm())
+                  {
+                    const double h = -cross(flow, x[b] - here) / cross(flow, spine);
+                    if ((x[b] + h * spine - here) * flow > 0)
+                      next = x[b] + h * spine;
+                  }
+                else if (flow.norm() > 0 && old_edge * flow > 0)
+                  next = here + ((old_edge * flow) / flow.norm_square()) * flow;
+                // Into a die: onto it along the spine (where the spine
+                // meets it; a node on the die then stays: no creep along it).
+                const Nearest die = nearest_die(next);
+                // Past the free stretch, a node a die holds stays from where
+                // the streamline meets the die on: the contact decides there
+                // (the metal came onto the die again).
+                const BoundaryEdge &e = loop[edges[i]];
+                if (i >= free_edges && held(b, e.id, outward_normal(x[e.a], x[e.b])) &&
+                    (back_on_die || die.depth > -on_die || given_back.count(e.face)))
+                  {
+                    placed[b]   = x[b];
+                    here        = x[b];
+                    back_on_die = true;
+                    continue;
+                  }
                 if (die.depth > on_die)
-                  next = die.point;
-                place(b, next, length);
-                here = next;
+                  {
+                    if (nearest_die(x[b]).depth <= on_die)
+                      {
+                        dealii::Point<2> out = x[b], in = next;
+                        for (unsigned int bisection = 0; bisection < 60 && out.distance(in) > on_die; ++bisection)
+                          {
+                            const dealii::Point<2> middle = out + 0.5 * (in - out);
+                            (nearest_die(middle).depth > 0 ? in : out) = middle;
+                          }
+                        next = out;
+                      }
+                    else
+                      next = die.point;
+                  }
+                placed[b] = next;
+                here      = next;
               }
             for (const unsigned int i : edges)
               surface.push_back(loop[i]);
-            if (!end_moves)
-              continue;
-            // The straight boundary after the stretch (the outlet) stretches to its moved end.
-            const unsigned int end = nodes.back();
-            std::vector<unsigned int> line;
-            const Tensor<1, 2>        first = reversed ? x[loop[after].a] - x[end] : x[loop[after].b] - x[end];
-            for (unsigned int i = after, count = 0; !is_free[i] && count < n; i = downstream(i), ++count)
-              {
-                const unsigned int far = reversed ? loop[i].a : loop[i].b;
-                const Tensor<1, 2> to  = x[far] - x[end];
-                if (loop[i].id != loop[after].id || std::abs(first[0] * to[1] - first[1] * to[0]) > 1e-9 * first.norm() * to.norm())
-                  break;
-                line.push_back(far);
-              }
             if (line.empty())
               continue;
+            // The straight boundary after the stretch (the outlet) stretches to its moved end.
             const dealii::Point<2> corner = x[line.back()];
             const double           span   = x[end].distance(corner);
             for (unsigned int i = 0; i + 1 < line.size(); ++i)
               placed[line[i]] = corner + x[line[i]].distance(corner) / span * (placed[end] - corner);
           }
       }
+    // The largest move, over the free surface's length (its own scale).
+    for (const auto &[vertex, p] : placed)
+      result.largest = std::max(result.largest, p.distance(x[vertex]) / surface_length);
 
-    // A damped fixed point: the first streamlines of a domain the metal
-    // does not fill can be edges away from the last, and the interior's
-    // move must not turn cells inside out.
-    if (result.largest > largest_step)
-      for (auto &[vertex, p] : placed)
-        p = x[vertex] + largest_step / result.largest * (p - x[vertex]);
+    // A face the dies let go on the mesh before stays free on this one
+    // (its free id; were it given back, the solve would pull it away again).
+    if (carry_let_go && apply)
+      for (const BoundaryEdge &e : surface)
+        if (is_free_id(e.id) && std::abs(nearest_die(x[e.a]).depth) <= on_die && std::abs(nearest_die(x[e.b]).depth) <= on_die)
+          let_go.insert(e.face);
+    carry_let_go = false;
     const auto at = [&](const unsigned int vertex) { return placed.count(vertex) ? placed.at(vertex) : x[vertex]; };
     for (const BoundaryEdge &e : surface)
       {
         const Nearest a = nearest_die(at(e.a)), b = nearest_die(at(e.b));
         const bool    on = a.id != dealii::numbers::invalid_boundary_id && a.id == b.id && std::abs(a.depth) <= on_die &&
                         std::abs(b.depth) <= on_die && !let_go.count(e.face);
-        if (!on && die_ids.count(e.id) && apply && result.largest > parameters.tolerance)
-          let_go.insert(e.face);
+        // A face the march gives back to a die and the solve lets go again
+        // stays free on this mesh (grazing: held, the metal pulls away;
+        // free, it pushes in): no cycle of two.
+        if (apply && result.largest > parameters.tolerance)
+          {
+            if (!on && die_ids.count(e.id) && given_back.count(e.face))
+              let_go.insert(e.face);
+            if (on && !die_ids.count(e.id))
+              given_back.insert(e.face);
+          }
         face_ids[e.face] = on ? a.id : is_free_id(e.id) ? e.id : parameters.ids.front();
         result.free_faces += on ? 0 : 1;
+        // Free, lying on a die: the push into it that no pressure answers.
+        if (!on && a.id != dealii::numbers::invalid_boundary_id && a.id == b.id && std::abs(a.depth) <= on_die &&
+            std::abs(b.depth) <= on_die && mean_velocity.count(e.face))
+          {
+            const double length = x[e.a].distance(x[e.b]);
+            const double r      = axisymmetric ? 2 * dealii::numbers::PI * 0.5 * (x[e.a][1] + x[e.b][1]) : 1.;
+            ++result.grazing_faces;
+            result.grazing_flux += mean_velocity.at(e.face) * outward_normal(x[e.a], x[e.b]) * length * r;
+          }
         result.let_go += (!on && die_ids.count(e.id)) ? 1 : 0;
         result.reattached += (on && !die_ids.count(e.id)) ? 1 : 0;
       }
     if (!apply || result.largest <= parameters.tolerance)
       return result;
+    // The whole move, halved while it would spoil the cells (the interior
+    // follows by deal.II's Laplace transform, hanging vertices onto their
+    // parents): the first streamlines of a domain the metal does not fill
+    // can be far off.
+    const double before = smallest_scaled_jacobian(mesh);
     std::map<unsigned int, dealii::Point<2>> boundary = dealii::GridTools::get_all_vertices_at_boundary(mesh);
-    for (const auto &[vertex, p] : placed)
-      boundary[vertex] = p;
-    dealii::GridTools::laplace_transform(boundary, mesh);
-    place_hanging_vertices(mesh);
+    for (double step = 1; step > 1e-3; step /= 2)
+      {
+        for (const auto &[vertex, p] : placed)
+          boundary[vertex] = x[vertex] + step * (p - x[vertex]);
+        dealii::GridTools::laplace_transform(boundary, mesh);
+        place_hanging_vertices(mesh);
+        result.step = step;
+        if (smallest_scaled_jacobian(mesh) >= std::min(0.25, 0.5 * before))
+          break;
+        set_vertices(mesh, x);
+        result.step = 0;
+      }
     for (const auto &cell : mesh.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary() && face_ids.count(face->index()))

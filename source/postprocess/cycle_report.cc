@@ -5,6 +5,7 @@
 #include <dieflow/mesh/refinement.h>
 #include <dieflow/postprocess/contact_output.h>
 #include <dieflow/postprocess/cycle_report.h>
+#include <dieflow/postprocess/free_surface_output.h>
 #include <dieflow/postprocess/goal_estimate.h>
 #include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/postprocess/postprocess.h>
@@ -180,6 +181,13 @@ namespace dieflow
             throw InputError("Refinement/Probe point: the point is not in the mesh");
           }
         summary.quantities.emplace_back("v_x(probe)", value[0]);
+      }
+    // The extrudate's half thickness (radius): where one free stretch ends.
+    if (summary.free_surface && !summary.free_surface->lines.empty())
+      {
+        if (summary.free_surface->lines.size() == 1)
+          summary.quantities.emplace_back("h_extrudate", summary.free_surface->lines[0].points.back()[1]);
+        write_free_surface(*summary.free_surface, settings.output_directory);
       }
 
     if (write_fields_now)

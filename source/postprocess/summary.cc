@@ -271,8 +271,25 @@ namespace dieflow
                 {"dropped_vertices", r->dropped_vertices}};
           }
         if (const auto &f = s.free_surface)
-          cycle["free_surface"] = {{"moves", f->moves}, {"settled", f->settled},
-                                   {"largest_move", number(f->largest_move)}, {"free_faces", f->free_faces}};
+          {
+            Json lines = Json::array();
+            for (const FreeSurfaceLine &line : f->lines)
+              {
+                Json points = Json::array();
+                for (const auto &p : line.points)
+                  points.push_back({number(p[0]), number(p[1])});
+                const auto &from = line.points.front(), &to = line.points.back();
+                lines.push_back({{"leaves", line.leaves}, {"ends", line.ends},
+                                 {"from", {number(from[0]), number(from[1])}},
+                                 {"to", {number(to[0]), number(to[1])}},
+                                 {"swell", number(from[1] != 0 ? to[1] / from[1] : 0.)},
+                                 {"points", points}});
+              }
+            cycle["free_surface"] = {{"moves", f->moves}, {"settled", f->settled},
+                                     {"largest_move", number(f->largest_move)}, {"free_faces", f->free_faces},
+                                     {"grazing_faces", f->grazing_faces}, {"grazing_flux", number(f->grazing_flux)},
+                                     {"lines", lines}};
+          }
         cycles.push_back(std::move(cycle));
       }
 

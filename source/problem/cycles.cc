@@ -90,7 +90,8 @@ namespace dieflow
                              parameters.boundary_conditions.traction_free_ids);
     if constexpr (dim == 2)
       if (parameters.free_surface.enabled())
-        free_surface.initialize(triangulation, parameters.contact.die_ids, parameters.free_surface);
+        free_surface.initialize(triangulation, parameters.contact.die_ids, parameters.free_surface,
+                                parameters.coordinates.axisymmetric());
     return first;
   }
 

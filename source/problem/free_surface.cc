@@ -22,11 +22,18 @@ namespace dieflow
               dealii::TimerOutput::Scope scope(timer, "mesh motion");
               move = free_surface.move(triangulation, dof_handler, velocity, contact.results(velocity), !last);
             }
-            record.largest_move = move.largest;
-            record.free_faces   = move.free_faces;
-            log << "  free surface: largest move " << std::setprecision(3) << move.largest << " of an edge, "
-                << move.free_faces << " free faces (" << move.let_go << " let go by the dies, " << move.reattached
-                << " back on them)" << std::setprecision(6) << std::endl;
+            record.largest_move  = move.largest;
+            record.free_faces    = move.free_faces;
+            record.grazing_faces = move.grazing_faces;
+            record.grazing_flux  = move.grazing_flux;
+            record.lines         = move.lines;
+            log << "  free surface: largest move " << std::setprecision(3) << move.largest << " of its length"
+                << (move.step > 0 && move.step < 1 ? " (a part " + deck_number(move.step) + " of it made)" : std::string())
+                << ", " << move.free_faces << " free faces (" << move.let_go << " let go by the dies, "
+                << move.reattached << " back on them";
+            if (move.grazing_faces > 0)
+              log << "; " << move.grazing_faces << " lie on a die, their flux into it " << move.grazing_flux;
+            log << ")" << std::setprecision(6) << std::endl;
             record.settled = move.largest <= parameters.free_surface.tolerance;
             if (record.settled)
               break;
@@ -35,7 +42,7 @@ namespace dieflow
                 result.converged = false;
                 result.failure   = "the free surface did not settle in " + std::to_string(record.moves) +
                                  " moves (the last would move a node " + deck_number(move.largest) +
-                                 " of its edge): raise Free surface/Iterations or Tolerance";
+                                 " of the free surface's length): raise Free surface/Iterations or Tolerance";
                 break;
               }
             ++record.moves;

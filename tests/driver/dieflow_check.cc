@@ -4,6 +4,7 @@
 // the quantities the deck's "subsection Test" asks for, and the verdict of
 // each of its checks. The checks are the proof; the table guards against
 // regressions.
+#include <algorithm>
 #include <dieflow/base/parameters.h>
 #include <dieflow/problem/run.h>
 
@@ -133,6 +134,22 @@ namespace
         cycle["free_surface_settled"] = s.free_surface ? s.free_surface->settled : nan;
         cycle["free_surface_move"]    = s.free_surface ? s.free_surface->largest_move : nan;
         cycle["free_faces"]           = s.free_surface ? s.free_surface->free_faces : nan;
+        cycle["grazing_faces"]        = s.free_surface ? s.free_surface->grazing_faces : nan;
+        cycle["grazing_flux"]         = s.free_surface ? s.free_surface->grazing_flux : nan;
+        cycle["free_lines"]           = s.free_surface ? s.free_surface->lines.size() : nan;
+        // The longest free stretch: where it leaves (from) and ends (to), the ids of the parts there.
+        if (s.free_surface && !s.free_surface->lines.empty())
+          {
+            const FreeSurfaceLine &line =
+              *std::max_element(s.free_surface->lines.begin(), s.free_surface->lines.end(),
+                                [](const auto &a, const auto &b) { return a.points.size() < b.points.size(); });
+            cycle["line_from_x"] = line.points.front()[0];
+            cycle["line_from_y"] = line.points.front()[1];
+            cycle["line_to_x"]   = line.points.back()[0];
+            cycle["line_to_y"]   = line.points.back()[1];
+            cycle["line_leaves"] = line.leaves;
+            cycle["line_ends"]   = line.ends;
+          }
         if (c > 0 && s.velocity_l2_error)
           {
             const CycleSummary &p = summary.cycles[c - 1];

@@ -10,6 +10,8 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/vector.h>
 
+#include <map>
+#include <set>
 #include <vector>
 
 namespace dieflow
@@ -19,8 +21,8 @@ namespace dieflow
   {
     /// The most moves of the free surface per cycle (0: the domain is kept).
     unsigned int            iterations = 0;
-    /// Settled when no node would move more than this part of its edges' length.
-    double                  tolerance = 1e-3;
+    /// Settled when no node would move more than this part of the free surface's length.
+    double                  tolerance = 1e-5;
     /// Traction-free ids whose faces are free surfaces; the first also
     /// takes the faces a die lets go.
     std::vector<BoundaryId> ids;
@@ -36,14 +38,32 @@ namespace dieflow
     }
   };
 
+  /// A stretch of the free surface: its nodes from where the metal leaves the part before it.
+  struct FreeSurfaceLine
+  {
+    /// The boundary ids of the parts before and after it: the die the metal
+    /// leaves at the first point, and where it ends (the outlet, or a die
+    /// the metal comes onto again).
+    BoundaryId                    leaves = 0, ends = 0;
+    std::vector<dealii::Point<2>> points;
+  };
+
   /// What one move of the free surface did.
   struct FreeSurfaceMove
   {
-    /// The largest move of a node over the shorter of its two boundary edges.
+    /// The largest move of a node over the free surface's length.
     double       largest = 0;
+    /// The part of the move made (halved while it would spoil the cells; 0: none).
+    double       step = 0;
     /// Faces of the free surface after the move; die faces it took from the
     /// dies (the metal left them) and gave back (it came onto them again).
     unsigned int free_faces = 0, let_go = 0, reattached = 0;
+    /// Free faces lying on a die (let go before on this mesh: the metal
+    /// grazes the die), and their flux into it (v.n, out of the metal).
+    unsigned int grazing_faces = 0;
+    double       grazing_flux  = 0;
+    /// The free stretches before the move.
+    std::vector<FreeSurfaceLine> lines;
   };
 
   /**
@@ -61,23 +81,24 @@ namespace dieflow
    * the Free surface ids, and die faces neither of whose nodes a die
    * direction of that face's normal holds (the contact results). Each
    * stretch is marched from its upstream end (where the flow enters it;
-   * that node stays): each edge becomes its projection onto the mean
-   * velocity of its two nodes (nodes move across the flow, not along it: a
-   * stretch along the land keeps its nodes' x, and its end stays on the
-   * outlet; v.n then integrates to zero over each straight Q1 edge). A node
-   * the march puts into a die goes onto the die surface (the dies of the
-   * first mesh, kept), and an edge with both nodes on a die is that die's
-   * again, unless the dies let it go before on this mesh: then it stays
-   * free, lying on the die (the surface grazes the die with no pressure;
-   * given back, such faces pull away from the die at the next solve and
-   * the march puts them back, a cycle of two). The march goes on over the
-   * die faces downstream of the stretch (the metal may leave them too) to
-   * the next other part; the straight
-   * boundary there (the outlet) is stretched to the march's end. Each move
-   * is damped to a quarter of an edge (a damped fixed point: the first
-   * streamlines of a domain the metal does not fill can be far off). The
-   * interior follows by deal.II's Laplace transform (GridTools), hanging
-   * vertices onto their parents.
+   * that node stays): node i + 1 goes along its spine (the outward normal
+   * where it first took part in a move on this mesh; the outlet's line for
+   * the stretch's end) to where the edge from the moved node i lies along
+   * the mean velocity over the edge (r-weighted in axisymmetric runs): the
+   * edge's flux int v.n then vanishes for either velocity degree, and no
+   * node slides along the surface. A node the march puts into a die goes
+   * onto it along its spine. The march goes on over the die faces
+   * downstream of the stretch (the metal may leave them too): from where
+   * the streamline meets a die, the nodes a die holds stay (the contact
+   * decides there). An edge with both nodes on a die is that die's again
+   * (given back); one given back and let go again by the next solve stays
+   * free on this mesh, lying on the die (grazing: counted, with its flux
+   * into the die). The straight boundary after the stretch (the outlet) is
+   * stretched to the march's end. The whole move is made, halved while it
+   * would spoil the cells; the interior follows by deal.II's Laplace
+   * transform (GridTools), hanging vertices onto their parents. Settled
+   * when no node would move more than the tolerance times the free
+   * surface's length (doc/incremental.md).
    */
   class FreeSurface
   {
@@ -85,7 +106,7 @@ namespace dieflow
     /// Keeps the dies' surfaces: the faces of @p die_ids of the first mesh.
     void
     initialize(const dealii::Triangulation<2> &mesh, const std::set<BoundaryId> &die_ids,
-               const FreeSurfaceParameters &parameters);
+               const FreeSurfaceParameters &parameters, const bool axisymmetric);
 
     /**
      * Moves the free surface of @p mesh onto the streamlines of @p velocity
@@ -103,6 +124,9 @@ namespace dieflow
     new_mesh()
     {
       let_go.clear();
+      given_back.clear();
+      spines.clear();
+      carry_let_go = true;
     }
 
   private:
@@ -126,8 +150,14 @@ namespace dieflow
     nearest_die(const dealii::Point<2> &x) const;
 
     std::vector<Segment>  dies;
-    /// The faces (by index) the dies let go since the last new mesh.
-    std::set<unsigned int> let_go;
+    /// The faces (by index) the march gave back to the dies since the last
+    /// new mesh, and those of them the dies let go again.
+    std::set<unsigned int> given_back, let_go;
+    /// The direction each node of the free surface moves in (by vertex), since the last new mesh.
+    std::map<unsigned int, Tensor<1, 2>> spines;
+    bool                  axisymmetric = false;
+    /// The first move on a new mesh: its free faces lying on a die were let go on the mesh before.
+    bool                  carry_let_go = false;
     double                on_die = 0;
     FreeSurfaceParameters parameters;
   };

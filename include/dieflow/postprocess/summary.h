@@ -3,6 +3,7 @@
 #define dieflow_summary_h
 
 #include <dieflow/contact/contact_results.h>
+#include <dieflow/free_surface/free_surface.h>
 #include <dieflow/incremental/step_record.h>
 #include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/solvers/linear_solver.h>
@@ -40,10 +41,14 @@ namespace dieflow
     /// no node to move more than the tolerance.
     unsigned int moves   = 0;
     bool         settled = false;
-    /// The largest move the last look found (over the node's edge length).
+    /// The largest move the last look found (over the free surface's length).
     double       largest_move = 0;
-    /// Faces of the free surface after the last move.
-    unsigned int free_faces = 0;
+    /// Faces of the free surface after the last move; those lying on a die
+    /// (grazing it) and their flux into it (FreeSurfaceMove).
+    unsigned int free_faces = 0, grazing_faces = 0;
+    double       grazing_flux = 0;
+    /// The free stretches as solved last (the polylines of summary.json and free-surface.vtp).
+    std::vector<FreeSurfaceLine> lines;
   };
 
   /// What one refinement cycle reports (interface.md, summary.json).
