@@ -272,6 +272,17 @@ namespace dieflow
         std::find(mesh_ids.begin(), mesh_ids.end(), free_surface.ids[0]) == mesh_ids.end())
       in_mesh.erase(free_surface.ids[0]);
     check_boundary_ids(triangulation, in_mesh);
+    // A free surface needs faces to start from: its own, or a die's to leave.
+    if (free_surface.enabled() && contact.die_ids.empty())
+      {
+        bool has_free_faces = false;
+        for (const BoundaryId id : free_surface.ids)
+          has_free_faces |= std::find(mesh_ids.begin(), mesh_ids.end(), id) != mesh_ids.end();
+        require(has_free_faces,
+                "Free surface/Free surface ids",
+                "no face of the mesh has these ids and Contact/Die ids is empty: there is no surface for the metal to "
+                "leave; give the die ids, or set Free surface/Iterations = 0");
+      }
     if (coordinates.axisymmetric())
       check_axisymmetric_mesh(triangulation, boundary_conditions.symmetry_ids);
   }
