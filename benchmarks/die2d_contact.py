@@ -16,7 +16,7 @@ X_D = 14.25 / math.tan(math.radians(70))
 
 
 def run(program, case, across, work):
-    deck_name = "die2d.prm" if case == "N1" else "die2d-%s.prm" % case
+    deck_name = "die2d-held-land.prm" if case == "N1" else "die2d-%s.prm" % case
     base = open(os.path.join(ROOT, "parameters", deck_name)).read()
     # What doc/contact.md measured: one degree-1 mesh of the old built-in
     # layout (the default deck now grades its corners, refines in cycles and

@@ -22,7 +22,7 @@ GEO = os.path.join(ROOT, "benchmarks", "die2d-graded.geo")
 
 
 def deck(output, mesh, indicator, marking, fraction, cycles):
-    text = open(os.path.join(ROOT, "parameters", "die2d.prm")).read()
+    text = open(os.path.join(ROOT, "parameters", "die2d-held-land.prm")).read()
     start = text.index("subsection Mesh")
     end = text.index("\nend\n", start) + len("\nend\n")
     text = text[:start] + f"subsection Mesh\n  set Source = gmsh\n  set Gmsh file = {mesh}\nend\n" + text[end:]

@@ -91,7 +91,7 @@ def ungraded_die2d(root, degree, extra="", cycles=1, layout="blocks"):
     own = {"Corner refinements", "Velocity degree", "Cycles", "Strategy", "Cells across", "Layout", "Output directory",
            "Write VTU"}
     own |= set(re.findall(r"set\s+([^=\n]+?)\s*=", extra))
-    base = "".join(line for line in open(os.path.join(root, "parameters", "die2d.prm")).readlines()
+    base = "".join(line for line in open(os.path.join(root, "parameters", "die2d-held-land.prm")).readlines()
                    if not any(re.match(r"\s*set\s+%s\s*=" % re.escape(key), line) for key in own))
     return base + ("\nsubsection Mesh\n  set Corner refinements = 0\n  subsection Die2d\n    set Layout = %s\n"
                    "  end\nend\nsubsection Discretisation\n  set Velocity degree = %d\nend\n"

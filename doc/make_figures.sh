@@ -16,7 +16,7 @@ variant() {
       -e "s|^set Write VTU .*|$outputs|" "$@" "$deck" > "$work/$name.prm"
 }
 
-# The speed of the default deck, die2d.
+# The speed of the default deck, die2d (the metal leaving the die at D).
 variant parameters/die2d.prm die2d 'set Write VTU = false\nset Write gnuplot = true'
 $program "$work/die2d.prm" > /dev/null
 gnuplot <<GP
@@ -36,7 +36,7 @@ echo "wrote doc/images/die2d-speed.png"
 # The mesh of an adaptive study of die2d N1 after eight cycles (needs
 # rsvg-convert, from Debian's librsvg2-bin, to turn the program's SVG into PNG).
 if command -v rsvg-convert > /dev/null; then
-  variant parameters/die2d.prm adaptive 'set Write VTU = false\nset Write mesh SVG = true'
+  variant parameters/die2d-held-land.prm adaptive 'set Write VTU = false\nset Write mesh SVG = true'
   cat >> "$work/adaptive.prm" <<DECK
 subsection Mesh
   subsection Die2d

@@ -89,20 +89,27 @@ check_decks(const bool in_time)
                       c.contact_tension < 1e-6 && c.friction_excess < 1e-12 && c.stick_slip_rate < 1e-8 &&
                       c.friction_power < 1e-12;
       report(deck.filename().string() + " runs and keeps its laws", ok);
-      if (deck.stem() == "die2d")
+      // The default deck's claim (README): the ram force within 0.1 % of the
+      // reference of its model, and the estimate it prints covers the true
+      // error, the reference's uncertainty included, without being more
+      // than 3x pessimistic. The metal leaving the die: 2363.65 +- 0.16 N/mm
+      // (doc/incremental.md, "The steady run it is to agree with"); the land
+      // holding it: 2468.78 +- 0.05 N/mm (doc/benchmarks.md, "Two estimates
+      // of the ram force's error", the N1 reference).
+      if (deck.stem() == "die2d" || deck.stem() == "die2d-held-land")
         {
-          // The default deck's claim (README): the ram force within 0.1 % of
-          // the N1 reference 2468.78 +- 0.05 N/mm (doc/benchmarks.md, "Two estimates of the ram force's error", the N1 reference), and the
-          // estimate it prints covers the true error, the reference's
-          // uncertainty included, without being more than 3x pessimistic.
+          const bool   held      = deck.stem() == "die2d-held-land";
+          const double reference = held ? 2468.78 : 2363.65, uncertainty = held ? 0.05 : 0.16;
           const double ram   = c.boundary_force.at(1)[0];
           double       bound = 0;
           for (const auto &q : summary.extrapolated)
             if (q.name == "F_x[1]")
               bound = q.estimate;
-          const double error = std::abs(ram - 2468.78) + 0.05;
-          report("die2d.prm: ram force within 0.1 % of the N1 reference 2468.78 N/mm", std::abs(ram / 2468.78 - 1) < 1e-3);
-          report("die2d.prm: the printed estimate covers the true error, at most 3x", error < bound && bound < 3 * error);
+          const double error = std::abs(ram - reference) + uncertainty;
+          const std::string name = deck.filename().string();
+          report(name + ": ram force within 0.1 % of the N1 reference " + (held ? "2468.78" : "2363.65") + " N/mm",
+                 std::abs(ram / reference - 1) < 1e-3);
+          report(name + ": the printed estimate covers the true error, at most 3x", error < bound && bound < 3 * error);
         }
     }
     catch (const std::exception &exc)

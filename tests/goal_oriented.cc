@@ -143,7 +143,7 @@ main()
              run.converged && effectivity > 0.8 && effectivity < 1.25);
     }
   {
-    std::ifstream      in(std::string(SOURCE_DIR) + "/../parameters/die2d.prm");
+    std::ifstream      in(std::string(SOURCE_DIR) + "/../parameters/die2d-held-land.prm");
     std::ostringstream deck;
     deck << in.rdbuf();
     std::string text = deck.str();

@@ -57,6 +57,10 @@ namespace dieflow
             next.linear_solves += result.linear_solves;
             result = next;
           }
+        for (const FreeSurfaceLine &line : record.lines)
+          log << "  free stretch: leaves id " << line.leaves << " at (" << line.points.front()[0] << ", "
+              << line.points.front()[1] << "), ends on id " << line.ends << " at (" << line.points.back()[0] << ", "
+              << line.points.back()[1] << ")" << std::endl;
         cycle.free_surface = record;
       }
     return result;
