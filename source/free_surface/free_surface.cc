@@ -64,10 +64,11 @@ namespace dieflow
 
   void
   FreeSurface::initialize(const dealii::Triangulation<2> &mesh, const std::set<BoundaryId> &die_ids,
-                          const FreeSurfaceParameters &free_surface_parameters, const bool axisymmetric_geometry)
+                          const FreeSurfaceParameters &free_surface_parameters,
+                          const CoordinateSystem<2> &  coordinate_system)
   {
-    parameters   = free_surface_parameters;
-    axisymmetric = axisymmetric_geometry;
+    parameters  = free_surface_parameters;
+    coordinates = coordinate_system;
     dies.clear();
     const auto &x = mesh.get_vertices();
     for (const auto &loop : boundary_loops(mesh, "Free surface/Iterations"))
@@ -125,13 +126,14 @@ namespace dieflow
     }
 
     /**
-     * The mean of the velocity over each boundary face, weighted by r in
-     * axisymmetric runs: a straight face along it has no flux, int v.n
-     * (2 pi r) ds = n . int v r ds = 0, whatever the velocity degree.
+     * The mean of the velocity over each boundary face, weighted as
+     * @p coordinates weights ds (2 pi r in axisymmetric runs): a straight
+     * face along it has no flux, int v.n w ds = n . int v w ds = 0,
+     * whatever the velocity degree.
      */
     std::map<unsigned int, Tensor<1, 2>>
     face_mean_velocities(const dealii::DoFHandler<2> &dof_handler, const dealii::Vector<double> &velocity,
-                         const bool axisymmetric)
+                         const CoordinateSystem<2> &coordinates)
     {
       const dealii::QGauss<1>       quadrature(dof_handler.get_fe().degree + 1);
       dealii::FEFaceValues<2>       fe_face(dof_handler.get_fe(), quadrature,
@@ -149,7 +151,7 @@ namespace dieflow
               double       weight = 0;
               for (unsigned int q = 0; q < quadrature.size(); ++q)
                 {
-                  const double w = fe_face.JxW(q) * (axisymmetric ? fe_face.quadrature_point(q)[1] : 1.);
+                  const double w = fe_face.JxW(q) * coordinates.weight(fe_face.quadrature_point(q));
                   sum += w * values[q];
                   weight += w;
                 }
@@ -190,7 +192,7 @@ namespace dieflow
   {
     const std::vector<dealii::Point<2>> x = mesh.get_vertices();
     const std::vector<Tensor<1, 2>>     v = vertex_velocities(dof_handler, velocity);
-    const auto mean_velocity = face_mean_velocities(dof_handler, velocity, axisymmetric);
+    const auto mean_velocity = face_mean_velocities(dof_handler, velocity, coordinates);
     // A die face is held where a node's direction of that die, of the face's normal, is not separated.
     const auto held = [&](const unsigned int vertex, const BoundaryId id, const Tensor<1, 2> &normal) {
       for (const auto &r : results)
@@ -371,17 +373,22 @@ namespace dieflow
 
     // A face the dies let go on the mesh before stays free on this one
     // (its free id; were it given back, the solve would pull it away again).
+    // Both ends of a face on the same die (within on_die of it).
+    const auto on_one_die = [&](const Nearest &a, const Nearest &b) {
+      return a.id != dealii::numbers::invalid_boundary_id && a.id == b.id && std::abs(a.depth) <= on_die &&
+             std::abs(b.depth) <= on_die;
+    };
     if (carry_let_go && apply)
       for (const BoundaryEdge &e : surface)
-        if (is_free_id(e.id) && std::abs(nearest_die(x[e.a]).depth) <= on_die && std::abs(nearest_die(x[e.b]).depth) <= on_die)
+        if (is_free_id(e.id) && on_one_die(nearest_die(x[e.a]), nearest_die(x[e.b])))
           let_go.insert(e.face);
     carry_let_go = false;
     const auto at = [&](const unsigned int vertex) { return placed.count(vertex) ? placed.at(vertex) : x[vertex]; };
     for (const BoundaryEdge &e : surface)
       {
         const Nearest a = nearest_die(at(e.a)), b = nearest_die(at(e.b));
-        const bool    on = a.id != dealii::numbers::invalid_boundary_id && a.id == b.id && std::abs(a.depth) <= on_die &&
-                        std::abs(b.depth) <= on_die && !let_go.count(e.face);
+        const bool    lies_on_die = on_one_die(a, b);
+        const bool    on          = lies_on_die && !let_go.count(e.face);
         // A face the march gives back to a die and the solve lets go again
         // stays free on this mesh (grazing: held, the metal pulls away;
         // free, it pushes in): no cycle of two.
@@ -395,13 +402,13 @@ namespace dieflow
         face_ids[e.face] = on ? a.id : is_free_id(e.id) ? e.id : parameters.ids.front();
         result.free_faces += on ? 0 : 1;
         // Free, lying on a die: the push into it that no pressure answers.
-        if (!on && a.id != dealii::numbers::invalid_boundary_id && a.id == b.id && std::abs(a.depth) <= on_die &&
-            std::abs(b.depth) <= on_die && mean_velocity.count(e.face))
+        // (The weight is linear in r, so its integral over the straight
+        // face is the length times its value at the midpoint.)
+        if (!on && lies_on_die && mean_velocity.count(e.face))
           {
-            const double length = x[e.a].distance(x[e.b]);
-            const double r      = axisymmetric ? 2 * dealii::numbers::PI * 0.5 * (x[e.a][1] + x[e.b][1]) : 1.;
             ++result.grazing_faces;
-            result.grazing_flux += mean_velocity.at(e.face) * outward_normal(x[e.a], x[e.b]) * length * r;
+            result.grazing_flux += mean_velocity.at(e.face) * outward_normal(x[e.a], x[e.b]) * x[e.a].distance(x[e.b]) *
+                                   coordinates.weight(x[e.a] + 0.5 * (x[e.b] - x[e.a]));
           }
         result.let_go += (!on && die_ids.count(e.id)) ? 1 : 0;
         result.reattached += (on && !die_ids.count(e.id)) ? 1 : 0;

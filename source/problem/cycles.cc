@@ -91,7 +91,7 @@ namespace dieflow
     if constexpr (dim == 2)
       if (parameters.free_surface.enabled())
         free_surface.initialize(triangulation, parameters.contact.die_ids, parameters.free_surface,
-                                parameters.coordinates.axisymmetric());
+                                parameters.coordinates);
     return first;
   }
 

@@ -5,6 +5,7 @@
 #include <dieflow/base/parameters.h>
 
 #include <dieflow/contact/contact_results.h>
+#include <dieflow/mesh/coordinate_system.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/grid/tria.h>
@@ -106,7 +107,7 @@ namespace dieflow
     /// Keeps the dies' surfaces: the faces of @p die_ids of the first mesh.
     void
     initialize(const dealii::Triangulation<2> &mesh, const std::set<BoundaryId> &die_ids,
-               const FreeSurfaceParameters &parameters, const bool axisymmetric);
+               const FreeSurfaceParameters &parameters, const CoordinateSystem<2> &coordinates);
 
     /**
      * Moves the free surface of @p mesh onto the streamlines of @p velocity
@@ -155,7 +156,8 @@ namespace dieflow
     std::set<unsigned int> given_back, let_go;
     /// The direction each node of the free surface moves in (by vertex), since the last new mesh.
     std::map<unsigned int, Tensor<1, 2>> spines;
-    bool                  axisymmetric = false;
+    /// The measure of ds (1, or 2 pi r): the faces' mean velocities and the grazing flux.
+    CoordinateSystem<2>   coordinates;
     /// The first move on a new mesh: its free faces lying on a die were let go on the mesh before.
     bool                  carry_let_go = false;
     double                on_die = 0;
