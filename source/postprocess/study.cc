@@ -3,6 +3,7 @@
 
 #include <deal.II/base/convergence_table.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <iomanip>
@@ -108,15 +109,23 @@ namespace dieflow
     std::vector<std::pair<std::string, Extrapolation>> result;
     if (cycles.empty())
       return result;
-    std::vector<double> N;
-    for (const auto &c : cycles)
-      N.push_back(c.dofs);
-    for (unsigned int q = 0; q < cycles.back().quantities.size(); ++q)
+    // Each quantity of the last cycle over the cycles before it that have
+    // it too (h_extrudate exists only while the free surface is one
+    // stretch): a sequence of one quantity, never a mix.
+    for (const auto &[name, last] : cycles.back().quantities)
       {
-        std::vector<double> values;
-        for (const auto &c : cycles)
-          values.push_back(c.quantities[q].second);
-        result.emplace_back(cycles.back().quantities[q].first, extrapolate(N, values));
+        std::vector<double> N, values;
+        for (auto c = cycles.rbegin(); c != cycles.rend(); ++c)
+          {
+            const auto q = std::find_if(c->quantities.begin(), c->quantities.end(), [&](const auto &named) {
+              return named.first == name;
+            });
+            if (q == c->quantities.end())
+              break;
+            N.insert(N.begin(), c->dofs);
+            values.insert(values.begin(), q->second);
+          }
+        result.emplace_back(name, extrapolate(N, values));
       }
     return result;
   }
@@ -128,6 +137,11 @@ namespace dieflow
   {
     dealii::ConvergenceTable table;
     const bool               exact = !cycles.empty() && cycles.front().velocity_l2_error.has_value();
+    std::vector<std::string> names;
+    for (const auto &c : cycles)
+      for (const auto &[name, value] : c.quantities)
+        if (std::find(names.begin(), names.end(), name) == names.end())
+          names.push_back(name);
     for (const auto &c : cycles)
       {
         table.add_value("cycle", c.cycle);
@@ -135,8 +149,18 @@ namespace dieflow
         table.add_value("dofs", c.dofs);
         table.add_value("its", c.nonlinear_iterations);
         table.add_value("time[s]", c.wall_time);
-        for (const auto &[name, value] : c.quantities)
-          table.add_value(name, value);
+        // A quantity some cycles lack (h_extrudate while the free surface
+        // is more than one stretch) is a '-' in their rows.
+        for (const std::string &name : names)
+          {
+            const auto q = std::find_if(c.quantities.begin(), c.quantities.end(), [&](const auto &named) {
+              return named.first == name;
+            });
+            if (q != c.quantities.end())
+              table.add_value(name, q->second);
+            else
+              table.add_value(name, std::string("-"));
+          }
         table.add_value("estimate", c.error_estimate);
         if (exact)
           {
@@ -147,7 +171,7 @@ namespace dieflow
     table.set_precision("time[s]", 3);
     table.set_scientific("estimate", true);
     table.set_precision("estimate", 3);
-    for (const auto &[name, value] : cycles.back().quantities)
+    for (const std::string &name : names)
       table.set_precision(name, 7);
     if (exact)
       {

@@ -79,8 +79,10 @@ namespace dieflow
     if (summary.cycles.empty())
       return;
     const CycleSummary &last = summary.cycles.back();
+    // A run that did not converge prints its last cycle's values, with
+    // no estimate: the study holds the converged cycles only.
     std::map<std::string, QuantityEstimate> estimate;
-    if (summary.cycles.size() > 1)
+    if (summary.cycles.size() > 1 && last.converged)
       for (const auto &e : summary.extrapolated)
         estimate[e.name] = e;
     const auto quantity = [&](const std::string &name, const std::string &unit) {

@@ -1,5 +1,4 @@
 // The die-flow problem's run: the cycles (refinement cycles, or steps in time), each solved, reported and judged.
-#include <algorithm>
 #include <dieflow/base/atomic_file.h>
 #include <dieflow/base/interrupt.h>
 #include <dieflow/base/threads.h>
@@ -9,6 +8,7 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
+#include <algorithm>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -122,7 +122,9 @@ namespace dieflow
   {
     const bool         in_time = parameters.time_stepping.incremental;
     const unsigned int cycle   = cycle_summary.cycle;
-    if (!in_time)
+    // A cycle that did not converge is no member of the mesh study: its
+    // values would enter the extrapolation of the cycles before it.
+    if (!in_time && result.converged)
       {
         study.add(cycle_summary);
         if (cycle > 0)
@@ -302,7 +304,9 @@ namespace dieflow
         q.extrapolation_error = e.error;
         q.order               = e.order;
         q.estimate            = e.estimate;
-        q.last                = named_value(summary.cycles.back().quantities, name);
+        q.last                = named_value(std::find_if(summary.cycles.rbegin(), summary.cycles.rend(),
+                                           [](const CycleSummary &c) { return c.converged; })->quantities,
+                                              name);
         summary.extrapolated.push_back(q);
       }
     if (!parameters.time_stepping.incremental)
