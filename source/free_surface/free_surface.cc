@@ -193,6 +193,10 @@ namespace dieflow
     const std::vector<dealii::Point<2>> x = mesh.get_vertices();
     const std::vector<Tensor<1, 2>>     v = vertex_velocities(dof_handler, velocity);
     const auto mean_velocity = face_mean_velocities(dof_handler, velocity, coordinates);
+    // The least rate at which the metal must move away from a die for a
+    // face to leave it: 1e-3 of the speed, a streamline at 0.06 degrees to
+    // the die (the jets of die2d N0-N3 leave the land at 1-10 degrees).
+    constexpr double leaving_rate = 1e-3;
     // A die face is held where a node's direction of that die, of the face's normal, is not separated.
     const auto held = [&](const unsigned int vertex, const BoundaryId id, const Tensor<1, 2> &normal) {
       for (const auto &r : results)
@@ -221,7 +225,17 @@ namespace dieflow
           {
             const BoundaryEdge &e      = loop[k];
             const Tensor<1, 2>  normal = outward_normal(x[e.a], x[e.b]);
-            is_free[k] = is_free_id(e.id) || (die_ids.count(e.id) && !held(e.a, e.id, normal) && !held(e.b, e.id, normal));
+            // A die face the contact lets go at both ends is free where the
+            // metal moves away from the die: a separation the flow does
+            // not make (the metal sliding along the die, as at the corner
+            // C, where the contact can leave a node or two separated on a
+            // fine mesh) would start a stretch that the march carries along
+            // the die at its first offset, parallel to the flow.
+            const auto flow = mean_velocity.find(e.face);
+            const bool leaves =
+              flow == mean_velocity.end() || flow->second * normal < -leaving_rate * flow->second.norm();
+            is_free[k] = is_free_id(e.id) ||
+                         (die_ids.count(e.id) && !held(e.a, e.id, normal) && !held(e.b, e.id, normal) && leaves);
           }
         const auto first_held = std::find(is_free.begin(), is_free.end(), false);
         if (first_held == is_free.end())
@@ -235,6 +249,22 @@ namespace dieflow
             std::vector<unsigned int> edges;
             for (unsigned int i = k; is_free[i]; i = (i + 1) % n)
               edges.push_back(i);
+            // Die faces let go next to a corner where a die turns into the
+            // metal (the domain on the edges' left turns left by more than a
+            // degree: the corner C of die2d) are no free stretch: the metal
+            // runs into that die at once, and the march, which moves each
+            // node along its spine, would put the corner into the metal and
+            // carry that offset down the die parallel to the flow (die2d N0
+            // on its seventh cycle). The contact decides there.
+            const auto turns_into_die = [&](const unsigned int from, const unsigned int to) {
+              const Tensor<1, 2> a = x[loop[from].b] - x[loop[from].a], b = x[loop[to].b] - x[loop[to].a];
+              return cross(a, b) > std::sin(dealii::numbers::PI / 180) * a.norm() * b.norm();
+            };
+            const unsigned int before_stretch = (edges.front() + n - 1) % n, after_stretch = (edges.back() + 1) % n;
+            if (std::none_of(edges.begin(), edges.end(), [&](const unsigned int i) { return is_free_id(loop[i].id); }) &&
+                ((die_ids.count(loop[before_stretch].id) && turns_into_die(before_stretch, edges.front())) ||
+                 (die_ids.count(loop[after_stretch].id) && turns_into_die(edges.back(), after_stretch))))
+              continue;
             // March from the end where the flow comes in.
             std::vector<unsigned int> nodes{loop[edges.front()].a};
             for (const unsigned int i : edges)

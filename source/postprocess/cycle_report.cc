@@ -17,6 +17,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 
 namespace dieflow
@@ -182,11 +183,24 @@ namespace dieflow
           }
         summary.quantities.emplace_back("v_x(probe)", value[0]);
       }
-    // The extrudate's half thickness (radius): where one free stretch ends.
+    // The metal's half thickness (radius: y is the distance from the
+    // symmetry line) where the free surface ends on a part that is no die
+    // (the outlet: the extrudate as it leaves, with its swell), and the
+    // least over the free surface (the jet's contraction, where the metal
+    // comes onto the land again too).
     if (summary.free_surface && !summary.free_surface->lines.empty())
       {
-        if (summary.free_surface->lines.size() == 1)
-          summary.quantities.emplace_back("h_extrudate", summary.free_surface->lines[0].points.back()[1]);
+        double least = std::numeric_limits<double>::infinity(), leaving = least;
+        for (const auto &line : summary.free_surface->lines)
+          {
+            for (const auto &p : line.points)
+              least = std::min(least, p[1]);
+            if (!die_ids.count(line.ends))
+              leaving = std::min(leaving, line.points.back()[1]);
+          }
+        if (std::isfinite(leaving))
+          summary.quantities.emplace_back("h_extrudate", leaving);
+        summary.quantities.emplace_back("h_jet", least);
         write_free_surface(*summary.free_surface, settings.output_directory);
       }
 
