@@ -54,7 +54,10 @@ def main():
     parser.add_argument("--m", type=float, default=0.2)
     args = parser.parse_args()
 
+    # The land holding the metal (as measured before the deck's free surface).
     base = open(os.path.join(root, "parameters", "die2d-P1.prm")).read()
+    base = base.replace("set Traction free ids       = 2, 6", "set Traction free ids       = 2")
+    base += "\nsubsection Free surface\n set Iterations = 0\nend\n"
     base += "\nsubsection Material\n set Rate sensitivity m = %g\nend\n" % args.m
     if args.walls == "slip":
         base += "\nsubsection Boundary conditions\n set Slip wall ids = 3, 4\nend\nsubsection Contact\n set Die ids =\nend\n"

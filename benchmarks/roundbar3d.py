@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The round bar of parameters/roundbar.prm as a 3D quarter model (Mesh/Source
+"""The round bar of parameters/roundbar-held-land.prm as a 3D quarter model (Mesh/Source
 = round bar quarter, degree 2, one cycle, no corner refinement) on graded
 meshes (Mesh/Die2d/Grading exponent), against the axisymmetric run on the
 die2d meshes of the same grading and Cells across, and both against the
@@ -22,8 +22,8 @@ CONVERGED_MPA = 1132536.2 / (3.141592653589793 * 19 ** 2)
 
 
 def deck_3d(grading, method):
-    """roundbar.prm turned into the quarter model, as doc/three-dimensional.md says."""
-    text = open("parameters/roundbar.prm").read()
+    """roundbar-held-land.prm turned into the quarter model, as doc/three-dimensional.md says."""
+    text = open("parameters/roundbar-held-land.prm").read()
     for old, new in [("set Dimension        = 2", "set Dimension = 3"),
                      ("set Geometry         = axisymmetric", "set Geometry = plane strain"),
                      ("set Source             = die2d", "set Source = round bar quarter"),
@@ -62,7 +62,7 @@ def main():
           "| F_x/A [MPa] | error |")
     print("|---|---|---|---|---|---|---|---|---|")
     for across in args.across:
-        axi_text = with_grading(open("parameters/roundbar.prm").read(), args.grading)
+        axi_text = with_grading(open("parameters/roundbar-held-land.prm").read(), args.grading)
         status, s, c = run(args.program, axi_text, across)
         stress = c["quantities"]["F_x[1]"] / c["boundary_area"]["1"]
         print("| %d | axisymmetric | %d | %s%s | %.1f | %.0f | %d | %.1f | %+.2f %% |"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Round-bar extrusion (parameters/roundbar.prm, Geometry = axisymmetric):
+"""Round-bar extrusion (parameters/roundbar-held-land.prm, Geometry = axisymmetric):
 ram-force error against dofs and cumulative wall time, Kelly-adaptive
 cycles from the deck's graded start, for velocity degree 1 and 2, as
 benchmarks/die2d_degree.py does for die2d.
@@ -22,7 +22,7 @@ LEVELS = (0.01, 0.001, 0.0005)
 
 
 def run(program, degree, cycles):
-    return run_variant(program, "parameters/roundbar.prm", {"Velocity degree": "%d" % degree, "Cycles": "%d" % cycles})
+    return run_variant(program, "parameters/roundbar-held-land.prm", {"Velocity degree": "%d" % degree, "Cycles": "%d" % cycles})
 
 
 def main():

@@ -10,7 +10,7 @@
 //  - graded as stated: the land's wall face at the die exit D is
 //    (1/n_l)^q of the land's wall for its n_l faces (2D);
 //  - and what the grading is for: the axisymmetric round bar
-//    (parameters/roundbar.prm without corner refinement, one cycle) at 8
+//    (parameters/roundbar-held-land.prm without corner refinement, one cycle) at 8
 //    cells across is 7.9 % above the converged mean axial stress (998.6
 //    MPa, 1,132,536 +- 147 N, the round bar's reference in
 //    doc/axisymmetric.md: an independent Kelly-refined degree-2 study on

@@ -1,6 +1,6 @@
 // The iterative solvers in 3D give the direct solver's answer: the round-bar quarter (Coulomb friction on the die) at degree 2 (mixed form, p-multigrid) to the Newton tolerance, at degree 1 (augmented Lagrangian) to the penalty's compressibility.
 //
-// parameters/roundbar.prm as the quarter model of doc/three-dimensional.md
+// parameters/roundbar-held-land.prm as the quarter model of doc/three-dimensional.md
 // (graded, q = 2.5), 4 cells across, one cycle: 6,405 unknowns at degree 2.
 // At degree 2 both methods solve the same nonlinear problem (the penalty
 // form on the projected divergence) to the same Newton tolerance, so they
