@@ -110,8 +110,8 @@ namespace dieflow
     if (cycles.empty())
       return result;
     // Each quantity of the last cycle over the cycles before it that have
-    // it too (h_extrudate exists only while the free surface is one
-    // stretch): a sequence of one quantity, never a mix.
+    // it too (h_extrudate exists only while the free surface runs to the
+    // outlet): a sequence of one quantity, never a mix.
     for (const auto &[name, last] : cycles.back().quantities)
       {
         std::vector<double> N, values;
@@ -150,7 +150,7 @@ namespace dieflow
         table.add_value("its", c.nonlinear_iterations);
         table.add_value("time[s]", c.wall_time);
         // A quantity some cycles lack (h_extrudate while the free surface
-        // is more than one stretch) is a '-' in their rows.
+        // does not run to the outlet) is a '-' in their rows.
         for (const std::string &name : names)
           {
             const auto q = std::find_if(c.quantities.begin(), c.quantities.end(), [&](const auto &named) {
