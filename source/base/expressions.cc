@@ -52,10 +52,14 @@ namespace dieflow
   std::unique_ptr<dealii::FunctionParser<dim>>
   parse_vector_expression(const std::string &entry,
                           const std::string &expression,
-                          const std::string &constants_text)
+                          const std::string &constants_text,
+                          const unsigned int n_components)
   {
-    const auto components = dealii::Utilities::split_string_list(expression, ';');
-    require(components.size() == dim,
+    const unsigned int n          = n_components == 0 ? dim : n_components;
+    const auto         components = dealii::Utilities::split_string_list(expression, ';');
+    if (n == 1)
+      require(components.size() == 1, entry, "'" + expression + "' must be one expression (no ';')");
+    require(components.size() == n,
             entry,
             "'" + expression + "' has " + std::to_string(components.size()) +
               " components separated by ';', but Dimension = " +
@@ -63,7 +67,7 @@ namespace dieflow
     auto constants = parse_constants(entry, constants_text);
     constants.emplace("pi", dealii::numbers::PI);
 
-    auto function = std::make_unique<dealii::FunctionParser<dim>>(dim);
+    auto function = std::make_unique<dealii::FunctionParser<dim>>(n);
     // deal.II's muparser wrapper writes the parser's complaint to std::cerr
     // before throwing; the user gets the one-line message below instead.
     std::ostringstream muted;
@@ -73,7 +77,7 @@ namespace dieflow
         function->initialize(dim == 2 ? "x,y" : "x,y,z", components, constants);
         // muparser compiles lazily: evaluate once so that syntax errors and
         // unknown names surface here, while the entry is known.
-        dealii::Vector<double> probe(dim);
+        dealii::Vector<double> probe(n);
         function->vector_value(dealii::Point<dim>(), probe);
       }
     catch (const std::exception &exc)
@@ -86,7 +90,7 @@ namespace dieflow
   }
 
   template std::unique_ptr<dealii::FunctionParser<2>>
-  parse_vector_expression<2>(const std::string &, const std::string &, const std::string &);
+  parse_vector_expression<2>(const std::string &, const std::string &, const std::string &, const unsigned int);
   template std::unique_ptr<dealii::FunctionParser<3>>
-  parse_vector_expression<3>(const std::string &, const std::string &, const std::string &);
+  parse_vector_expression<3>(const std::string &, const std::string &, const std::string &, const unsigned int);
 } // namespace dieflow

@@ -268,7 +268,11 @@ namespace dieflow
               scratch.symmetric_gradients[i] = coordinates.strain_rate(viscous, i, q);
               D += scratch.local_velocity[i] * scratch.symmetric_gradients[i];
             }
-          auto value = material->evaluate(std::sqrt(2. / 3. * (D * D)));
+          const double rate  = std::sqrt(2. / 3. * (D * D));
+          auto         value = terms.temperature == nullptr ?
+                         material->evaluate(rate) :
+                         material->evaluate(
+                           rate, (*terms.temperature)[cell->active_cell_index() * viscous.n_quadrature_points + q]);
           if (cell_hardening != nullptr)
             {
               value.eta *= (*cell_hardening)[cell->active_cell_index()];

@@ -125,7 +125,12 @@ namespace dieflow
       prm.declare_entry("Activation energy Q",
                         "141550",
                         Double(),
-                        "Sellars-Tegart activation energy Q (J/mol); AA6063: 141550.");
+                        "Activation energy Q (J/mol) of the Zener-Hollomon rate Z = "
+                        "epsdot exp(Q/(R T)): Sellars-Tegart's; with a temperature field "
+                        "(Heat/Model = steady) every law depends on T through it "
+                        "(Newtonian eta exp(Q/R (1/T - 1/T0)), Norton-Hoff K exp(m Q/R "
+                        "(1/T - 1/T0)), T0 = Temperature); 0: a law independent of T. "
+                        "AA6063: 141550.");
       prm.declare_entry("ln A",
                         "22.5",
                         Double(),
@@ -135,7 +140,9 @@ namespace dieflow
                         "723.15",
                         Double(),
                         "Uniform temperature T (K) for Sellars-Tegart "
-                        "(723.15 K = 450 C, a usual billet temperature).");
+                        "(723.15 K = 450 C, a usual billet temperature); with a "
+                        "temperature field, T0 at which the law's constants hold and "
+                        "the field's start.");
       prm.declare_entry("Minimum strain rate",
                         "1e-4",
                         Double(),
@@ -210,6 +217,11 @@ namespace dieflow
                                                  positive("Temperature"));
       }
 
+    temperature = positive("Temperature");
+    activation_energy = prm.get_double("Activation energy Q");
+    require(std::isfinite(activation_energy) && activation_energy >= 0,
+            "Material/Activation energy Q",
+            "must be zero or positive, got " + prm.get("Activation energy Q"));
     minimum_strain_rate = positive("Minimum strain rate");
     minimum_viscosity = prm.get_double("Minimum viscosity");
     maximum_viscosity = prm.get_double("Maximum viscosity");
@@ -252,6 +264,37 @@ namespace dieflow
                            minimum_strain_rate * minimum_strain_rate);
     value.eta   = law->viscosity(value.rate);
     value.d_eta = law->derivative(value.rate);
+    if (value.eta < minimum_viscosity)
+      {
+        value.eta   = minimum_viscosity;
+        value.d_eta = 0;
+      }
+    else if (value.eta > maximum_viscosity)
+      {
+        value.eta   = maximum_viscosity;
+        value.d_eta = 0;
+      }
+    return value;
+  }
+
+
+
+  double
+  Material::rate_factor(const double T) const
+  {
+    return std::exp(activation_energy / gas_constant * (1. / T - 1. / temperature));
+  }
+
+
+
+  ViscosityValue
+  Material::evaluate(const double equivalent_rate, const double T) const
+  {
+    ViscosityValue value;
+    value.rate     = std::sqrt(equivalent_rate * equivalent_rate + minimum_strain_rate * minimum_strain_rate);
+    const double f = rate_factor(T);
+    value.eta      = f * law->viscosity(f * value.rate);
+    value.d_eta    = f * f * law->derivative(f * value.rate);
     if (value.eta < minimum_viscosity)
       {
         value.eta   = minimum_viscosity;

@@ -59,6 +59,10 @@ namespace dieflow
     /// Material::hardening()), or null: eta and its rate derivative scale
     /// alike, so the Newton tangent stays consistent.
     const Vector<double> *hardening = nullptr;
+    /// The temperature at the viscous term's quadrature points (QGauss(degree
+    /// + 1), index active cell x points + point; HeatEquation), or null: the
+    /// law at Material/Temperature (Material::evaluate(rate, T)).
+    const std::vector<double> *temperature = nullptr;
     /// The mixed form (velocity degree 2, with a matrix only): the penalty's
     /// matrix term lambda B^T M^-1 B stays out of the matrix, which is then
     /// the velocity block A, and its blocks go here.

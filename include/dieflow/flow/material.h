@@ -148,6 +148,23 @@ namespace dieflow
     ViscosityValue
     evaluate(const double equivalent_rate) const;
 
+    /**
+     * The law at the temperature @p T (a temperature field, Heat/Model):
+     * every law is the law at Material/Temperature T_0 of the
+     * temperature-compensated rate f epsdot, f = exp(Q/R (1/T - 1/T_0))
+     * (Zener-Hollomon: Z = epsdot exp(Q/(R T))), so that
+     *   eta(epsdot, T) = f eta_0(f epsdot),  d eta/d epsdot = f^2 eta_0'(f epsdot).
+     * For Sellars-Tegart this is the law with T in Z; Newtonian:
+     * eta_0 exp(Q/R (1/T - 1/T_0)); Norton-Hoff: K(T) = K exp(m Q/R (1/T - 1/T_0)).
+     * The regularisation acts on epsdot, the bounds on eta, as in evaluate(rate).
+     */
+    ViscosityValue
+    evaluate(const double equivalent_rate, const double T) const;
+
+    /// f = exp(Q/R (1/T - 1/T_0)) of evaluate(rate, T).
+    double
+    rate_factor(const double T) const;
+
     bool
     is_newtonian() const
     {
@@ -199,6 +216,9 @@ namespace dieflow
     double      penalty_factor      = 1e7;
     /// Strain rate at which the Newtonian start evaluates the law (0: auto).
     double reference_strain_rate = 0;
+    /// T_0 (K), at which the law's constants hold, and Q (J/mol) of the Zener-Hollomon rate.
+    double temperature       = 723.15;
+    double activation_energy = 141550;
 
   private:
     std::shared_ptr<const ViscosityLaw> law;
