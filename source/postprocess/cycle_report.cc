@@ -135,6 +135,13 @@ namespace dieflow
     std::map<std::string, Vector<double>> nodal_fields, cell_fields;
     if (view.equivalent_strain != nullptr)
       cell_fields["equivalent_strain"] = *view.equivalent_strain;
+    if (view.heat != nullptr)
+      {
+        const auto &T           = view.heat->vertex_temperature;
+        nodal_fields["temperature"] = Vector<double>(T.begin(), T.end());
+        summary.heat            = *view.heat;
+        summary.heat->vertex_temperature.clear();
+      }
     // The pressure is recovered once, for the degree-1 die profiles and the
     // fields.
     const bool     recover_profiles = !contact.empty() && dof_handler.get_fe().degree == 1;
@@ -169,6 +176,12 @@ namespace dieflow
       {
         summary.quantities.emplace_back("F_n[" + std::to_string(id) + "]", summary.die_normal_force[id]);
         summary.quantities.emplace_back("F_t[" + std::to_string(id) + "]", summary.die_friction_force[id]);
+      }
+    // The temperature where the metal leaves (its flux-weighted mean) and the hottest point.
+    if (summary.heat)
+      {
+        summary.quantities.emplace_back("T_exit", summary.heat->T_exit);
+        summary.quantities.emplace_back("T_max", summary.heat->T_max);
       }
     if (settings.probe)
       {

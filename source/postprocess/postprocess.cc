@@ -551,15 +551,25 @@ namespace dieflow
     class MaterialFields : public dealii::DataPostprocessor<dim>
     {
     public:
-      MaterialFields(const Material &material, const CoordinateSystem<dim> &coordinates)
+      /// @p vertex_temperature: T per vertex of the mesh (a temperature field), or null.
+      MaterialFields(const Material &material, const CoordinateSystem<dim> &coordinates, const Vector<double> *vertex_temperature)
         : material(material)
         , coordinates(coordinates)
+        , vertex_temperature(vertex_temperature)
       {}
 
       void
       evaluate_vector_field(const dealii::DataPostprocessorInputs::Vector<dim> &inputs,
                             std::vector<Vector<double>> &computed) const override
       {
+        // With a temperature field the law at the cell's mean vertex T (an output, not the solve's quadrature).
+        double T = 0;
+        if (vertex_temperature != nullptr)
+          {
+            const auto cell = inputs.template get_cell<dim>();
+            for (const unsigned int v : cell->vertex_indices())
+              T += (*vertex_temperature)[cell->vertex_index(v)] / cell->n_vertices();
+          }
         for (unsigned int q = 0; q < computed.size(); ++q)
           {
             Tensor<2, dim> grad;
@@ -570,7 +580,7 @@ namespace dieflow
             if (coordinates.axisymmetric())
               D.hoop = hoop_rate(inputs.evaluation_points[q], inputs.solution_values[q][1], grad[1][1]);
             const double rate  = std::sqrt(2. / 3. * (D * D));
-            const double eta   = material.evaluate(rate).eta;
+            const double eta   = vertex_temperature != nullptr ? material.evaluate(rate, T).eta : material.evaluate(rate).eta;
             computed[q][0]     = rate;
             computed[q][1]     = 3. * eta * rate;
             computed[q][2]     = eta;
@@ -592,6 +602,7 @@ namespace dieflow
     private:
       const Material &             material;
       const CoordinateSystem<dim> &coordinates;
+      const Vector<double> *       vertex_temperature;
     };
 
     /// Values per vertex of the triangulation as a Q1 field.
@@ -643,7 +654,10 @@ namespace dieflow
     const std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation> interpretation(
       dim, dealii::DataComponentInterpretation::component_is_part_of_vector);
     data_out.add_data_vector(velocity, names, dealii::DataOut<dim>::type_dof_data, interpretation);
-    const MaterialFields<dim> material_fields(material, coordinates);
+    const auto                temperature = nodal_fields.find("temperature");
+    const MaterialFields<dim> material_fields(material,
+                                              coordinates,
+                                              temperature == nodal_fields.end() ? nullptr : &temperature->second);
     data_out.add_data_vector(velocity, material_fields);
     data_out.add_data_vector(scalar_dofs, p_nodal, "pressure");
     std::vector<Vector<double>> extra;

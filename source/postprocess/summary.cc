@@ -292,6 +292,19 @@ namespace dieflow
                                      {"grazing_faces", f->grazing_faces}, {"grazing_flux", number(f->grazing_flux)},
                                      {"lines", lines}};
           }
+        // The heat balance in N mm/s (mW; per mm of depth in plane strain).
+        if (const auto &h = s.heat)
+          cycle["heat"] = {{"solves", h->solves}, {"settled", h->settled}, {"last_change", number(h->last_change)},
+                           {"plastic_work", number(h->plastic_work)}, {"plastic_heat", number(h->plastic_heat)},
+                           {"friction_work", number(h->friction_work)}, {"friction_heat", number(h->friction_heat)},
+                           {"carried", number(h->carried)}, {"transferred", number(h->transferred)},
+                           {"prescribed_outflow", number(h->prescribed_outflow)},
+                           {"balance_error", number(h->balance_error)}, {"T_min", number(h->T_min)},
+                           {"T_max", number(h->T_max)}, {"T_exit", number(h->T_exit)},
+                           {"T_exit_min", number(h->T_exit_min)}, {"T_exit_max", number(h->T_exit_max)},
+                           {"cell_peclet", number(h->peclet)}};
+        if (const auto &h = s.heat; h && h->T_l2_error)
+          cycle["heat"]["T_l2_error"] = number(*h->T_l2_error), cycle["heat"]["T_nodal_error"] = number(*h->T_nodal_error);
         cycles.push_back(std::move(cycle));
       }
 

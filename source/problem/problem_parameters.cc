@@ -105,6 +105,7 @@ namespace dieflow
     prm.leave_subsection();
     ContactParameters::declare_parameters(prm);
     FreeSurfaceParameters::declare_parameters(prm);
+    HeatParameters::declare_parameters(prm);
     prm.enter_subsection("Refinement");
     prm.declare_entry("Probe point",
                       "auto",
@@ -164,6 +165,7 @@ namespace dieflow
     checkpoint.parse_parameters(prm, deck_directory);
     prm.leave_subsection();
     free_surface.parse_parameters(prm);
+    heat.parse_parameters(prm);
     check_entries();
 
     prm.enter_subsection("Refinement");
@@ -227,6 +229,10 @@ namespace dieflow
             "Incremental/Remesh below Jacobian",
             "meshing the domain anew is available in 2D only (plane strain, axisymmetric); set 0 and "
             "Remesh interval = 0 for Dimension = 3");
+    require(!heat.enabled() || !time_stepping.incremental,
+            "Heat/Model",
+            "steady solves the steady heat equation, for Problem = steady; heat in runs in time is not "
+            "built yet: set off");
     require(!material.hardens() || time_stepping.incremental,
             "Material/Hardening exponent n",
             "needs Problem = incremental: a steady run carries no strain (set 0)");
@@ -272,6 +278,18 @@ namespace dieflow
         std::find(mesh_ids.begin(), mesh_ids.end(), free_surface.ids[0]) == mesh_ids.end())
       in_mesh.erase(free_surface.ids[0]);
     check_boundary_ids(triangulation, in_mesh);
+    if (heat.enabled())
+      {
+        // The parts the heat equation names: in the mesh (or the free surface the dies' faces become).
+        const auto known = [&](const BoundaryId id) {
+          return std::find(mesh_ids.begin(), mesh_ids.end(), id) != mesh_ids.end() ||
+                 std::find(free_surface.ids.begin(), free_surface.ids.end(), id) != free_surface.ids.end();
+        };
+        for (const BoundaryId id : heat.prescribed_ids)
+          require(known(id), "Heat/Prescribed temperature ids", "id " + std::to_string(id) + " is not in the mesh");
+        for (const auto &[id, h] : heat.transfer_coefficient)
+          require(known(id), "Heat/Heat transfer coefficients", "id " + std::to_string(id) + " is not in the mesh");
+      }
     // A free surface needs faces to start from: its own, or a die's to leave.
     if (free_surface.enabled() && contact.die_ids.empty())
       {

@@ -57,6 +57,8 @@ namespace dieflow
     dealii::SolutionTransfer<dim, Vector<double>> transfer(dof_handler), cell_transfer(cell_dofs);
     triangulation.prepare_coarsening_and_refinement();
     transfer.prepare_for_coarsening_and_refinement(velocity);
+    if (parameters.heat.enabled())
+      heat.prepare_refinement();
     if (carry_stress)
       cell_transfer.prepare_for_coarsening_and_refinement(cell_values);
     triangulation.execute_coarsening_and_refinement();
@@ -64,6 +66,8 @@ namespace dieflow
     Vector<double> transferred(dof_handler.n_dofs());
     transfer.interpolate(velocity, transferred);
     velocity = transferred;
+    if (parameters.heat.enabled())
+      heat.finish_refinement();
 
     Vector<double> carried;
     if (carry_stress)

@@ -56,6 +56,7 @@ namespace dieflow
     , incompressibility(parameters.material, parameters.coordinates, dof_handler, linear_solver, log)
     , system(dof_handler, update_constraints, assembler, contact)
     , incremental(parameters.time_stepping, parameters.coordinates, parameters.material)
+    , heat(parameters.heat, parameters.material, parameters.coordinates, triangulation, parameters.velocity_degree)
     , report(report_settings(parameters), log)
   {
     contact.initialize(parameters.contact);
@@ -137,6 +138,8 @@ namespace dieflow
     system_matrix.reinit(sparsity_pattern);
     incompressibility.reinit(hanging_node_constraints, velocity, system_matrix);
     system_rhs.reinit(dof_handler.n_dofs());
+    if (parameters.heat.enabled())
+      heat.setup();
   }
 
 
@@ -185,6 +188,8 @@ namespace dieflow
   {
     FlowTerms<dim> terms = incompressibility.terms();
     terms.hardening      = incremental.hardening();
+    if (parameters.heat.enabled())
+      terms.temperature = heat.flow_temperatures();
     return terms;
   }
 
@@ -206,7 +211,8 @@ namespace dieflow
                              flow_terms(),
                              incompressibility,
                              contact,
-                             parameters.time_stepping.incremental ? &incremental.equivalent_strain : nullptr};
+                             parameters.time_stepping.incremental ? &incremental.equivalent_strain : nullptr,
+                             parameters.heat.enabled() ? &heat.record() : nullptr};
   }
 
   template class DieFlowProblem<2>;

@@ -130,6 +130,18 @@ namespace
             cycle["split_edges"]          = s.step->remesh ? s.step->remesh->split_edges : 0.;
           }
         // Steady runs with a free surface (free_surface.h).
+        // With a temperature field (heat_equation.h).
+        if (const auto &h = s.heat)
+          for (const auto &[name, value] : std::vector<std::pair<std::string, double>>{
+                 {"heat_solves", h->solves}, {"heat_settled", h->settled}, {"plastic_work", h->plastic_work},
+                 {"plastic_heat", h->plastic_heat}, {"friction_work", h->friction_work},
+                 {"friction_heat", h->friction_heat}, {"heat_carried", h->carried},
+                 {"heat_transferred", h->transferred}, {"heat_prescribed_outflow", h->prescribed_outflow},
+                 {"heat_balance", h->balance_error}, {"T_min", h->T_min}, {"T_max", h->T_max},
+                 {"T_exit", h->T_exit}, {"T_exit_min", h->T_exit_min}, {"T_exit_max", h->T_exit_max},
+                 {"cell_peclet", h->peclet}, {"T_l2_error", h->T_l2_error.value_or(nan)},
+                 {"T_nodal_error", h->T_nodal_error.value_or(nan)}})
+            cycle[name] = value;
         cycle["free_surface_moves"]   = s.free_surface ? s.free_surface->moves : nan;
         cycle["free_surface_settled"] = s.free_surface ? s.free_surface->settled : nan;
         cycle["free_surface_move"]    = s.free_surface ? s.free_surface->largest_move : nan;

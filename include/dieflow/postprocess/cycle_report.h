@@ -45,6 +45,8 @@ namespace dieflow
     const ContactSet<dim> &           contact;
     /// A run in time: the equivalent strain per active cell (else null).
     const Vector<double> *            equivalent_strain;
+    /// The temperature's record (Heat/Model), or null: isothermal.
+    const HeatRecord *                heat;
   };
 
   /// How a run reports: where its files go, which, and its quantities of interest.

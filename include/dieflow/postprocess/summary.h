@@ -4,6 +4,7 @@
 
 #include <dieflow/contact/contact_results.h>
 #include <dieflow/free_surface/free_surface.h>
+#include <dieflow/heat/heat_equation.h>
 #include <dieflow/incremental/step_record.h>
 #include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/solvers/linear_solver.h>
@@ -136,6 +137,8 @@ namespace dieflow
     std::optional<StepRecord> step;
     /// Steady runs with Free surface/Iterations > 0.
     std::optional<FreeSurfaceRecord> free_surface;
+    /// With a temperature field (its vertex values left out).
+    std::optional<HeatRecord> heat;
   };
 
   /// The value named @p name among (name, value) pairs such as

@@ -7,6 +7,7 @@
 #include <dieflow/flow/flow_assembler.h>
 #include <dieflow/flow/incompressibility.h>
 #include <dieflow/free_surface/free_surface.h>
+#include <dieflow/heat/heat_equation.h>
 #include <dieflow/incremental/incremental_state.h>
 #include <dieflow/mesh/wall_nodes.h>
 #include <dieflow/postprocess/cycle_report.h>
@@ -46,6 +47,7 @@ namespace dieflow
    *       accept_step                                       (newton.cc);
    *     a steady free surface moved onto the streamlines and solved again
    *       until it settles                              (free_surface.cc);
+   *     the temperature and the flow solved in turn until T settles (heat.cc);
    *     the report (CycleReport), its guards, the study, summary.json;
    *     a checkpoint in time                            (checkpoint.cc).
    *
@@ -76,10 +78,7 @@ namespace dieflow
     double
     residual(const Vector<double> &v, Vector<double> &minus_residual) override;
     const Vector<double> &
-    minus_residual() const override
-    {
-      return system_rhs;
-    }
+    minus_residual() const override { return system_rhs; }
     void
     solve(Vector<double> &update, const double relative_residual) override;
     void
@@ -93,20 +92,11 @@ namespace dieflow
     bool
     constraints_settled() const override;
     double
-    velocity_scale() const override
-    {
-      return prescribed_speed;
-    }
+    velocity_scale() const override { return prescribed_speed; }
     bool
-    jacobian_is_symmetric() const override
-    {
-      return matrix_symmetric;
-    }
+    jacobian_is_symmetric() const override { return matrix_symmetric; }
     std::string
-    state_note() const override
-    {
-      return contact.cycling_note();
-    }
+    state_note() const override { return contact.cycling_note(); }
     std::vector<std::string>
     contact_changes() const override;
     std::vector<std::string>
@@ -198,6 +188,10 @@ namespace dieflow
     NonlinearResult
     settle_free_surface(NonlinearResult result, CycleSummary &cycle);
 
+    /// Heat, then the flow at the new T, in turn until T settles (Heat/Model = steady). (heat.cc)
+    NonlinearResult
+    couple_heat(NonlinearResult result, CycleSummary &cycle);
+
     // Checkpoints: each piece saves and loads itself            (checkpoint.cc)
     void
     save_checkpoint(const unsigned int n, RunSummary &summary) const;
@@ -230,6 +224,7 @@ namespace dieflow
     SystemAssembler<dim>   system;
     IncrementalState<dim>  incremental;
     FreeSurface            free_surface;
+    HeatEquation<dim>      heat;
     CycleReport<dim>       report;
     StudyTable             study;
     /// The contact states come from a solve (false until the first of a

@@ -7,6 +7,7 @@
 #include <dieflow/flow/boundary_conditions.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/free_surface/free_surface.h>
+#include <dieflow/heat/heat_parameters.h>
 #include <dieflow/incremental/checkpoint.h>
 #include <dieflow/incremental/remeshing.h>
 #include <dieflow/incremental/time_stepping.h>
@@ -113,6 +114,7 @@ namespace dieflow
     CheckpointParameters    checkpoint;
     ContactParameters       contact;
     FreeSurfaceParameters   free_surface;
+    HeatParameters          heat;
     /// Where the velocity is reported as a quantity of interest (if any).
     std::optional<dealii::Point<dim>> probe;
     /// Verification/Exact velocity (if any).

@@ -1,0 +1,173 @@
+// The metal's temperature: the steady heat equation on the flow's mesh, its sources from the flow and the dies, its balance and its outputs.
+#ifndef dieflow_heat_equation_h
+#define dieflow_heat_equation_h
+
+#include <dieflow/flow/material.h>
+#include <dieflow/heat/heat_parameters.h>
+#include <dieflow/mesh/coordinate_system.h>
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/point.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/solution_transfer.h>
+
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace dieflow
+{
+  /**
+   * What the temperature of a cycle reports (summary.json "heat"). The
+   * balance in W per mm of depth (plane strain) or W (axisymmetric, 3D),
+   * i.e. N mm/s / 1000: the heat made (beta sigma:D, the metal's share of
+   * the friction work) against the heat carried by the metal (int rho c
+   * v.grad T), lost through the parts with a heat transfer coefficient, and
+   * conducted out through the parts where T is prescribed (their reaction).
+   */
+  struct HeatRecord
+  {
+    /// Heat solves made, and whether the last changed T by less than the Coupling tolerance.
+    unsigned int solves  = 0;
+    bool         settled = false;
+    /// The last solve's largest change of T (K).
+    double last_change = 0;
+    /// The plastic work int sigma:D, beta of it, and the friction work and the metal's share (N mm/s).
+    double plastic_work = 0, plastic_heat = 0, friction_work = 0, friction_heat = 0;
+    /// int rho c v.grad T, int h (T - T_ambient) over the transfer parts, the prescribed parts' reaction (N mm/s).
+    double carried = 0, transferred = 0, prescribed_outflow = 0;
+    /// (heat made - carried - transferred - prescribed outflow) / heat made.
+    double balance_error = 0;
+    /// The extremes of T over the metal (nodal values) and where the metal
+    /// leaves: its flux-weighted mean and range over the faces it crosses outwards (mean v.n above half its mean speed).
+    double T_min = 0, T_max = 0, T_exit = 0, T_exit_min = 0, T_exit_max = 0;
+    /// The largest cell Peclet number |v| h rho c / (2 k).
+    double peclet = 0;
+    /// Against Heat/Exact temperature (if given): ||T_h - T||_L2 (with 2 pi r in the axisymmetric geometry) and the largest nodal error.
+    std::optional<double> T_l2_error, T_nodal_error;
+    /// T at the mesh's vertices (for the VTU).
+    std::vector<double> vertex_temperature;
+  };
+
+  /**
+   * The steady heat equation of the metal on the flow's mesh (Eulerian):
+   *   rho c v.grad T - div(k grad T) = beta sigma:D,
+   * sigma:D = 2 eta D:D the plastic work of the flow (eq. (3) of the paper),
+   * with T = T_p on the prescribed parts, k grad T.n = h (T_ambient - T) on
+   * the transfer parts (dies, free surfaces), the metal's share of the
+   * friction work -F_t.v_slip of each contact node as a nodal heat source
+   * (the discrete friction power of the flow's reactions), and insulated
+   * elsewhere. Continuous Q_k elements; in the axisymmetric geometry dx and
+   * ds carry 2 pi r (the weak form of the cylindrical Laplacian). SUPG
+   * (Brooks, Hughes 1982): the test function gains tau v.grad w on each
+   * cell, tau = h/(2|v|) (coth Pe - 1/Pe), Pe = |v| h rho c/(2k), h the
+   * cell's size over the degree, and the strong residual keeps the second
+   * derivatives of degree 2 (consistent: the exact solution satisfies it).
+   * The flow reads T at its quadrature points (point_temperatures()).
+   */
+  template <int dim>
+  class HeatEquation
+  {
+  public:
+    HeatEquation(const HeatParameters &       parameters,
+                 const Material &             material,
+                 const CoordinateSystem<dim> &coordinates,
+                 const dealii::Triangulation<dim> &triangulation,
+                 const unsigned int           velocity_degree);
+
+    /// The dofs, constraints and matrix of the current mesh; T at its start (Material/Temperature) on the first.
+    void
+    setup();
+
+    /// Carries T through a refinement of the mesh: before and after execute_coarsening_and_refinement().
+    void
+    prepare_refinement();
+    void
+    finish_refinement();
+
+    /**
+     * Solves for T with the flow's @p velocity (its viscosity at the
+     * current T) and the contact nodes' friction work @p friction
+     * ((position, -F_t.v_slip) per node); returns the largest change of T
+     * in K. The flow keeps its temperatures until update_flow_temperatures().
+     */
+    double
+    solve(const dealii::DoFHandler<dim> &                        flow_dofs,
+          const dealii::Vector<double> &                         velocity,
+          const std::vector<std::pair<dealii::Point<dim>, double>> &friction);
+
+    /// T at the flow's quadrature points (QGauss(velocity degree + 1), per active cell) from the current T.
+    void
+    update_flow_temperatures();
+    /// What the flow assembly reads (FlowTerms::temperature).
+    const std::vector<double> *
+    flow_temperatures() const
+    {
+      return &point_temperature;
+    }
+
+    /// The temperature's range over the metal (K): what the coupling's change is measured against.
+    double
+    range() const;
+
+    /// The last solve's record (balance, extremes, exit), the solve counts of the cycle set by the caller.
+    const HeatRecord &
+    record() const
+    {
+      return last;
+    }
+    HeatRecord &
+    record()
+    {
+      return last;
+    }
+
+    unsigned int
+    n_dofs() const
+    {
+      return dof_handler.n_dofs();
+    }
+
+  private:
+    /// The balance and the outputs of the solution just found.
+    void
+    make_record(const dealii::DoFHandler<dim> &flow_dofs, const dealii::Vector<double> &velocity, const double friction_heat);
+
+    const HeatParameters &             parameters;
+    const Material &                   material;
+    const CoordinateSystem<dim>        coordinates;
+    const dealii::Triangulation<dim> & triangulation;
+    const unsigned int                 flow_quadrature;
+    const dealii::FE_Q<dim>            fe;
+    dealii::DoFHandler<dim>            dof_handler;
+    std::unique_ptr<dealii::FunctionParser<dim>> prescribed, exact;
+    dealii::AffineConstraints<double>  constraints;
+    dealii::SparsityPattern            sparsity;
+    dealii::SparseMatrix<double>       matrix;
+    dealii::Vector<double>             rhs;
+    dealii::Vector<double>             temperature;
+    std::vector<double>                point_temperature;
+    std::unique_ptr<dealii::SolutionTransfer<dim, dealii::Vector<double>>> transfer;
+    HeatRecord                         last;
+    /// A cell's rows of prescribed T summed: sum_j columns_j T_j - load is their reaction.
+    struct PrescribedRows
+    {
+      std::vector<dealii::types::global_dof_index> dofs;
+      std::vector<double>                          columns;
+      double                                       load = 0;
+    };
+    std::vector<PrescribedRows> prescribed_rows;
+    /// How much of a dof's row belongs to prescribed rows: 1 for a prescribed dof, a hanging node's weights on prescribed parents.
+    double
+    prescribed_weight(const dealii::types::global_dof_index dof) const;
+  };
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,141 @@
+// The record of a temperature solution: the heat balance, the extremes, the temperature where the metal leaves, T at the vertices.
+#include <dieflow/heat/heat_equation.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dieflow
+{
+  template <int dim>
+  void
+  HeatEquation<dim>::make_record(const dealii::DoFHandler<dim> &flow_dofs,
+                                 const dealii::Vector<double> & velocity,
+                                 const double                   friction_heat)
+  {
+    const double                             rho_c = parameters.heat_capacity;
+    const dealii::QGauss<dim>                quadrature(fe.degree + 1);
+    const dealii::QGauss<dim - 1>            face_quadrature(fe.degree + 1);
+    const dealii::FEValuesExtractors::Vector velocities(0);
+    dealii::FEValues<dim>                    fe_values(fe,
+                                    quadrature,
+                                    dealii::update_gradients | dealii::update_quadrature_points |
+                                      dealii::update_JxW_values);
+    dealii::FEValues<dim>     flow_values(flow_dofs.get_fe(), quadrature, dealii::update_values);
+    dealii::FEFaceValues<dim> face_values(fe,
+                                          face_quadrature,
+                                          dealii::update_values | dealii::update_quadrature_points |
+                                            dealii::update_JxW_values | dealii::update_normal_vectors);
+    dealii::FEFaceValues<dim> flow_face_values(flow_dofs.get_fe(), face_quadrature, dealii::update_values);
+    std::vector<dealii::Tensor<1, dim>> grad_T(quadrature.size()), v(quadrature.size()), v_face(face_quadrature.size());
+    std::vector<double>                 T_face(face_quadrature.size());
+
+    last.plastic_heat  = parameters.taylor_quinney * last.plastic_work;
+    last.friction_heat = friction_heat;
+    last.carried = last.transferred = 0;
+    // Where the metal leaves: faces it crosses, their mean v.n above half
+    // its mean speed there (not a die's or a free surface's small v.n, which
+    // on a surface just refined may reach 1e-3 of the speed).
+    double exit_flux = 0, exit_heat = 0;
+    last.T_exit_min = std::numeric_limits<double>::max();
+    last.T_exit_max = std::numeric_limits<double>::lowest();
+
+    auto flow_cell = flow_dofs.begin_active();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        flow_values.reinit(flow_cell);
+        fe_values.get_function_gradients(temperature, grad_T);
+        flow_values[velocities].get_function_values(velocity, v);
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          last.carried += rho_c * (v[q] * grad_T[q]) * fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
+        for (const unsigned int f : cell->face_indices())
+          {
+            const auto face = cell->face(f);
+            if (!face->at_boundary())
+              continue;
+            const auto h_face = parameters.transfer_coefficient.find(face->boundary_id());
+            face_values.reinit(cell, f);
+            flow_face_values.reinit(flow_cell, f);
+            face_values.get_function_values(temperature, T_face);
+            flow_face_values[velocities].get_function_values(velocity, v_face);
+            double face_flux = 0, face_heat = 0, face_speed = 0;
+            for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+              {
+                const double ds = face_values.JxW(q) * coordinates.weight(face_values.quadrature_point(q));
+                if (h_face != parameters.transfer_coefficient.end())
+                  last.transferred +=
+                    h_face->second * (T_face[q] - parameters.ambient_temperature.at(face->boundary_id())) * ds;
+                const double vn = v_face[q] * face_values.normal_vector(q);
+                face_flux += vn * ds;
+                face_heat += vn * T_face[q] * ds;
+                face_speed += v_face[q].norm() * ds;
+              }
+            if (face_flux > 0.5 * face_speed && face_flux > 0)
+              {
+                exit_flux += face_flux;
+                exit_heat += face_heat;
+                for (const double T : T_face)
+                  {
+                    last.T_exit_min = std::min(last.T_exit_min, T);
+                    last.T_exit_max = std::max(last.T_exit_max, T);
+                  }
+              }
+          }
+        ++flow_cell;
+      }
+    last.T_exit = exit_flux > 0 ? exit_heat / exit_flux : 0;
+    if (!(exit_flux > 0))
+      last.T_exit_min = last.T_exit_max = 0;
+
+    // The prescribed rows' reaction: minus the heat they take in.
+    double reaction = 0;
+    for (const auto &rows : prescribed_rows)
+      {
+        for (unsigned int j = 0; j < rows.dofs.size(); ++j)
+          reaction += rows.columns[j] * temperature[rows.dofs[j]];
+        reaction -= rows.load;
+      }
+    last.prescribed_outflow = -reaction;
+    const double made       = last.plastic_heat + last.friction_heat;
+    last.balance_error      = made > 0 ? (made - last.carried - last.transferred - last.prescribed_outflow) / made : 0;
+
+    const auto [lowest, highest] = std::minmax_element(temperature.begin(), temperature.end());
+    last.T_min                   = *lowest;
+    last.T_max                   = *highest;
+    if (exact)
+      {
+        // The L2 error with the geometry's weight (2 pi r), at degree + 2 Gauss points.
+        const dealii::QGauss<dim> error_quadrature(fe.degree + 2);
+        dealii::FEValues<dim>     values(fe, error_quadrature, dealii::update_values | dealii::update_quadrature_points | dealii::update_JxW_values);
+        std::vector<double>       T(error_quadrature.size());
+        double                    squared = 0;
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          {
+            values.reinit(cell);
+            values.get_function_values(temperature, T);
+            for (unsigned int q = 0; q < T.size(); ++q)
+              squared += std::pow(T[q] - exact->value(values.quadrature_point(q)), 2) * values.JxW(q) *
+                         coordinates.weight(values.quadrature_point(q));
+          }
+        last.T_l2_error = std::sqrt(squared);
+        dealii::Vector<double> nodal(dof_handler.n_dofs());
+        dealii::VectorTools::interpolate(dof_handler, *exact, nodal);
+        nodal -= temperature;
+        last.T_nodal_error = nodal.linfty_norm();
+      }
+    last.vertex_temperature.assign(triangulation.n_vertices(), 0.);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int i : cell->vertex_indices())
+        last.vertex_temperature[cell->vertex_index(i)] = temperature[cell->vertex_dof_index(i, 0)];
+  }
+
+  template void
+  HeatEquation<2>::make_record(const dealii::DoFHandler<2> &, const dealii::Vector<double> &, const double);
+  template void
+  HeatEquation<3>::make_record(const dealii::DoFHandler<3> &, const dealii::Vector<double> &, const double);
+} // namespace dieflow
