@@ -259,22 +259,8 @@ namespace dieflow
   ViscosityValue
   Material::evaluate(const double equivalent_rate) const
   {
-    ViscosityValue value;
-    value.rate = std::sqrt(equivalent_rate * equivalent_rate +
-                           minimum_strain_rate * minimum_strain_rate);
-    value.eta   = law->viscosity(value.rate);
-    value.d_eta = law->derivative(value.rate);
-    if (value.eta < minimum_viscosity)
-      {
-        value.eta   = minimum_viscosity;
-        value.d_eta = 0;
-      }
-    else if (value.eta > maximum_viscosity)
-      {
-        value.eta   = maximum_viscosity;
-        value.d_eta = 0;
-      }
-    return value;
+    // At T_0 the rate factor is exp(0) = 1 exactly: the law itself, to every digit.
+    return evaluate(equivalent_rate, temperature);
   }
 
 
