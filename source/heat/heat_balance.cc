@@ -15,16 +15,19 @@ namespace dieflow
   void
   HeatEquation<dim>::make_record(const dealii::DoFHandler<dim> &flow_dofs,
                                  const dealii::Vector<double> & velocity,
-                                 const double                   friction_heat)
+                                 const double                   friction_heat,
+                                 const dealii::Vector<double> & previous,
+                                 const double                   dt)
   {
+    const bool                               transient = dt > 0;
     const double                             rho_c = parameters.heat_capacity;
     const dealii::QGauss<dim>                quadrature(fe.degree + 1);
     const dealii::QGauss<dim - 1>            face_quadrature(fe.degree + 1);
     const dealii::FEValuesExtractors::Vector velocities(0);
     dealii::FEValues<dim>                    fe_values(fe,
                                     quadrature,
-                                    dealii::update_gradients | dealii::update_quadrature_points |
-                                      dealii::update_JxW_values);
+                                    dealii::update_values | dealii::update_gradients |
+                                      dealii::update_quadrature_points | dealii::update_JxW_values);
     dealii::FEValues<dim>     flow_values(flow_dofs.get_fe(), quadrature, dealii::update_values);
     dealii::FEFaceValues<dim> face_values(fe,
                                           face_quadrature,
@@ -32,11 +35,12 @@ namespace dieflow
                                             dealii::update_JxW_values | dealii::update_normal_vectors);
     dealii::FEFaceValues<dim> flow_face_values(flow_dofs.get_fe(), face_quadrature, dealii::update_values);
     std::vector<dealii::Tensor<1, dim>> grad_T(quadrature.size()), v(quadrature.size()), v_face(face_quadrature.size());
-    std::vector<double>                 T_face(face_quadrature.size());
+    std::vector<double>                 T_face(face_quadrature.size()), T(quadrature.size()),
+      T_previous(quadrature.size());
 
     last.plastic_heat  = parameters.taylor_quinney * last.plastic_work;
     last.friction_heat = friction_heat;
-    last.carried = last.transferred = 0;
+    last.carried = last.transferred = last.stored = 0;
     // Where the metal leaves: faces it crosses, their mean v.n above half
     // its mean speed there (not a die's or a free surface's small v.n, which
     // on a surface just refined may reach 1e-3 of the speed).
@@ -51,8 +55,21 @@ namespace dieflow
         flow_values.reinit(flow_cell);
         fe_values.get_function_gradients(temperature, grad_T);
         flow_values[velocities].get_function_values(velocity, v);
+        // Steady: carried by the flow through the fixed mesh; in time: stored
+        // in the metal the mesh follows, at the assembly's quadrature.
+        if (transient)
+          {
+            fe_values.get_function_values(temperature, T);
+            fe_values.get_function_values(previous, T_previous);
+          }
         for (unsigned int q = 0; q < quadrature.size(); ++q)
-          last.carried += rho_c * (v[q] * grad_T[q]) * fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
+          {
+            const double dx = fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
+            if (transient)
+              last.stored += rho_c * (T[q] - T_previous[q]) / dt * dx;
+            else
+              last.carried += rho_c * (v[q] * grad_T[q]) * dx;
+          }
         for (const unsigned int f : cell->face_indices())
           {
             const auto face = cell->face(f);
@@ -75,7 +92,7 @@ namespace dieflow
                 face_heat += vn * T_face[q] * ds;
                 face_speed += v_face[q].norm() * ds;
               }
-            if (face_flux > 0.5 * face_speed && face_flux > 0)
+            if (!transient && face_flux > 0.5 * face_speed && face_flux > 0)
               {
                 exit_flux += face_flux;
                 exit_heat += face_heat;
@@ -102,11 +119,23 @@ namespace dieflow
       }
     last.prescribed_outflow = -reaction;
     const double made       = last.plastic_heat + last.friction_heat;
-    last.balance_error      = made > 0 ? (made - last.carried - last.transferred - last.prescribed_outflow) / made : 0;
+    last.balance_error =
+      made > 0 ? (made - last.carried - last.stored - last.transferred - last.prescribed_outflow) / made : 0;
+    record_state();
+  }
 
+
+
+  template <int dim>
+  void
+  HeatEquation<dim>::record_state()
+  {
     const auto [lowest, highest] = std::minmax_element(temperature.begin(), temperature.end());
     last.T_min                   = *lowest;
     last.T_max                   = *highest;
+    const auto [content, volume] = integrals();
+    last.T_mean                  = content / (parameters.heat_capacity * volume);
+    last.transient               = parameters.model == HeatParameters::Model::transient;
     if (exact)
       {
         // The L2 error with the geometry's weight (2 pi r), at degree + 2 Gauss points.
@@ -134,8 +163,40 @@ namespace dieflow
         last.vertex_temperature[cell->vertex_index(i)] = temperature[cell->vertex_dof_index(i, 0)];
   }
 
+  template <int dim>
+  std::pair<double, double>
+  HeatEquation<dim>::integrals() const
+  {
+    const dealii::QGauss<dim> quadrature(fe.degree + 1);
+    dealii::FEValues<dim>     fe_values(fe, quadrature, dealii::update_values | dealii::update_quadrature_points | dealii::update_JxW_values);
+    std::vector<double>       T(quadrature.size());
+    double                    content = 0, volume = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        fe_values.get_function_values(temperature, T);
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          {
+            const double dx = fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
+            content += parameters.heat_capacity * T[q] * dx;
+            volume += dx;
+          }
+      }
+    return {content, volume};
+  }
+
+
+
   template void
-  HeatEquation<2>::make_record(const dealii::DoFHandler<2> &, const dealii::Vector<double> &, const double);
+  HeatEquation<2>::make_record(const dealii::DoFHandler<2> &, const dealii::Vector<double> &, const double, const dealii::Vector<double> &, const double);
   template void
-  HeatEquation<3>::make_record(const dealii::DoFHandler<3> &, const dealii::Vector<double> &, const double);
+  HeatEquation<3>::make_record(const dealii::DoFHandler<3> &, const dealii::Vector<double> &, const double, const dealii::Vector<double> &, const double);
+  template void
+  HeatEquation<2>::record_state();
+  template void
+  HeatEquation<3>::record_state();
+  template std::pair<double, double>
+  HeatEquation<2>::integrals() const;
+  template std::pair<double, double>
+  HeatEquation<3>::integrals() const;
 } // namespace dieflow

@@ -1,6 +1,7 @@
 // The metal's temperature: assembly (SUPG), solve, the flow's temperatures, the heat balance and the exit temperature.
 #include <dieflow/base/expressions.h>
 #include <dieflow/heat/heat_equation.h>
+#include <dieflow/incremental/mesh_transfer.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -61,8 +62,10 @@ namespace dieflow
   void
   HeatEquation<dim>::setup()
   {
-    const bool first = dof_handler.n_dofs() == 0;
     dof_handler.distribute_dofs(fe);
+    // The first mesh: T starts at Material/Temperature (a checkpoint's,
+    // a refinement's or a new mesh's T is of this mesh's size).
+    const bool first = temperature.size() == 0;
     if (first)
       {
         temperature.reinit(dof_handler.n_dofs());
@@ -80,6 +83,44 @@ namespace dieflow
     matrix.reinit(sparsity);
     rhs.reinit(dof_handler.n_dofs());
     update_flow_temperatures();
+    if (first)
+      record_state();
+  }
+
+
+
+  template <int dim>
+  dealii::Vector<double>
+  HeatEquation<dim>::on_new_mesh(const dealii::Triangulation<dim> &fresh, const std::string &when) const
+  {
+    dealii::DoFHandler<dim> fresh_dofs(fresh);
+    fresh_dofs.distribute_dofs(fe);
+    return MeshTransfer<dim>(dof_handler, fresh_dofs, when).nodal(temperature);
+  }
+
+
+
+  template <int dim>
+  bool
+  HeatEquation<dim>::temperature_fits() const
+  {
+    dealii::DoFHandler<dim> dofs(triangulation);
+    dofs.distribute_dofs(fe);
+    return temperature.size() == dofs.n_dofs();
+  }
+
+
+
+  template <int dim>
+  void
+  HeatEquation<dim>::take_new_mesh(dealii::Vector<double> &&carried)
+  {
+    // distribute_dofs() numbers the copy of the new mesh as on_new_mesh()'s handler numbered the new mesh.
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(fe);
+    AssertDimension(carried.size(), dof_handler.n_dofs());
+    temperature = std::move(carried);
+    record_state();
   }
 
 
@@ -111,10 +152,13 @@ namespace dieflow
   double
   HeatEquation<dim>::solve(const dealii::DoFHandler<dim> &                           flow_dofs,
                            const dealii::Vector<double> &                            velocity,
-                           const std::vector<std::pair<dealii::Point<dim>, double>> &friction)
+                           const std::vector<std::pair<dealii::Point<dim>, double>> &friction,
+                           const double                                              dt)
   {
     const double rho_c = parameters.heat_capacity, k = parameters.conductivity, beta = parameters.taylor_quinney;
-    const bool   supg  = parameters.stabilisation == HeatParameters::Stabilisation::supg;
+    // In time the mesh moves with the metal: no advection, nothing to stabilise.
+    const bool   transient = dt > 0;
+    const bool   supg  = parameters.stabilisation == HeatParameters::Stabilisation::supg && !transient;
     const bool   second_derivatives = supg && fe.degree > 1;
     const dealii::QGauss<dim>     quadrature(fe.degree + 1);
     const dealii::QGauss<dim - 1> face_quadrature(fe.degree + 1);
@@ -163,13 +207,15 @@ namespace dieflow
             const double work = 2. * material.evaluate(rate, T_old[q]).eta * (D[q] * D[q]);
             const double source = beta * work;
             last.plastic_work += work * dx;
-            const double speed  = v[q].norm();
+            const double speed  = transient ? 0. : v[q].norm();
             const double Pe     = speed * h * rho_c / (2. * k);
             last.peclet         = std::max(last.peclet, Pe);
             const double tau    = (supg && speed > 0) ? h / (2. * speed) * upwind_function(Pe) : 0.;
+            // Backward Euler: rho c (T - T_old)/dt, the mass term in place of the advection.
+            const double mass   = transient ? rho_c / dt : 0.;
             for (unsigned int j = 0; j < n; ++j)
               {
-                advection[j] = v[q] * fe_values.shape_grad(j, q);
+                advection[j] = transient ? 0. : v[q] * fe_values.shape_grad(j, q);
                 // -k (Laplacian of phi_j) in the strong residual: the cylindrical one in the axisymmetric geometry.
                 double laplacian = 0;
                 if (second_derivatives)
@@ -184,10 +230,10 @@ namespace dieflow
                 const double test  = phi_i + tau * advection[i];
                 for (unsigned int j = 0; j < n; ++j)
                   cell_matrix(i, j) +=
-                    (rho_c * advection[j] * phi_i + k * (fe_values.shape_grad(i, q) * fe_values.shape_grad(j, q)) +
-                     tau * advection[i] * strong[j]) *
+                    ((rho_c * advection[j] + mass * fe_values.shape_value(j, q)) * phi_i +
+                     k * (fe_values.shape_grad(i, q) * fe_values.shape_grad(j, q)) + tau * advection[i] * strong[j]) *
                     dx;
-                cell_rhs(i) += source * test * dx;
+                cell_rhs(i) += (source * test + mass * T_old[q] * phi_i) * dx;
               }
           }
         for (const auto &face : cell->face_iterators())
@@ -274,12 +320,13 @@ namespace dieflow
     solver.initialize(matrix);
     solver.vmult(temperature, rhs);
     constraints.distribute(temperature);
-    previous -= temperature;
+    dealii::Vector<double> change = previous;
+    change -= temperature;
     AssertThrow(matched == friction.size(),
                 dealii::ExcMessage("a contact node without a temperature node: " + std::to_string(matched) + " of " +
                                    std::to_string(friction.size()) + " found"));
-    make_record(flow_dofs, velocity, friction_heat);
-    last.last_change = previous.linfty_norm();
+    last.last_change = change.linfty_norm();
+    make_record(flow_dofs, velocity, friction_heat, previous, dt);
     return last.last_change;
   }
 

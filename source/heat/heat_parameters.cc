@@ -15,12 +15,15 @@ namespace dieflow
     {
       prm.declare_entry("Model",
                         "off",
-                        Selection("off|steady"),
+                        Selection("off|steady|transient"),
                         "off: isothermal, every law at Material/Temperature. steady: the "
                         "steady heat equation rho c v.grad T = div(k grad T) + beta sigma:D "
                         "on the flow's domain (Problem = steady), solved in turn with the "
-                        "flow until both settle; the laws then take T from the field "
-                        "(Material/Activation energy Q, doc/heat.md).");
+                        "flow until both settle. transient: rho c dT/dt = div(k grad T) + "
+                        "beta sigma:D on the mesh that moves with the metal (Problem = "
+                        "incremental), one heat step per time step with the step's flow. "
+                        "The laws take T from the field (Material/Activation energy Q, "
+                        "doc/heat.md); T starts at Material/Temperature.");
       prm.declare_entry("Degree",
                         "0",
                         Integer(0, 2),
@@ -96,7 +99,7 @@ namespace dieflow
   HeatParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Heat");
-    model         = prm.get("Model") == "steady" ? Model::steady : Model::off;
+    model         = prm.get("Model") == "steady" ? Model::steady : prm.get("Model") == "transient" ? Model::transient : Model::off;
     stabilisation = prm.get("Stabilisation") == "SUPG" ? Stabilisation::supg : Stabilisation::none;
     degree        = prm.get_integer("Degree");
     const auto positive = [&](const std::string &entry) { return get_positive(prm, "Heat/", entry); };

@@ -177,10 +177,11 @@ namespace dieflow
         summary.quantities.emplace_back("F_n[" + std::to_string(id) + "]", summary.die_normal_force[id]);
         summary.quantities.emplace_back("F_t[" + std::to_string(id) + "]", summary.die_friction_force[id]);
       }
-    // The temperature where the metal leaves (its flux-weighted mean) and the hottest point.
+    // The temperature where the metal leaves (its flux-weighted mean; in time: the metal's mean) and the hottest point.
     if (summary.heat)
       {
-        summary.quantities.emplace_back("T_exit", summary.heat->T_exit);
+        summary.quantities.emplace_back(summary.heat->transient ? "T_mean" : "T_exit",
+                                        summary.heat->transient ? summary.heat->T_mean : summary.heat->T_exit);
         summary.quantities.emplace_back("T_max", summary.heat->T_max);
       }
     if (settings.probe)

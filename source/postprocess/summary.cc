@@ -125,6 +125,21 @@ namespace dieflow
             << "\n            separated " << std::setprecision(4) << length[0] << wall_unit << ", stick " << length[1]
             << wall_unit << ", slip " << length[2] << wall_unit << "\n";
       }
+    // The temperature and the heat balance (N mm/s = mW: in W).
+    if (const auto &h = last.heat)
+      {
+        out << "  temperature: mean " << std::setprecision(6) << h->T_mean << " K";
+        // Steady, where the metal leaves (none found: T_exit_max 0).
+        if (!h->transient && h->T_exit_max > 0)
+          out << ", where the metal leaves T_exit = " << quantity("T_exit", "K") << " (" << std::setprecision(6)
+              << h->T_exit_min << " - " << h->T_exit_max << " K)";
+        out << "\n            hottest T_max = " << quantity("T_max", "K") << ", coldest " << std::setprecision(6)
+            << h->T_min << " K\n            heat (W" << (whole_body ? "" : " per mm") << "): plastic "
+            << std::setprecision(4) << 1e-3 * h->plastic_heat << " + friction " << 1e-3 * h->friction_heat << " = "
+            << (h->transient ? "stored " : "carried ") << 1e-3 * (h->transient ? h->stored : h->carried)
+            << " + through walls " << 1e-3 * h->transferred << " + at prescribed T " << 0. + 1e-3 * h->prescribed_outflow
+            << " (balance " << std::setprecision(2) << h->balance_error << ")\n";
+      }
     for (const auto &[name, value] : last.quantities)
       if (name == "v_x(probe)")
         out << "  probe velocity v_x = " << quantity(name, "mm/s") << '\n';
@@ -270,7 +285,8 @@ namespace dieflow
                 {"smallest_scaled_jacobian_before", number(r->jacobian_before)},
                 {"smallest_scaled_jacobian_after", number(r->jacobian_after)},
                 {"volume_change", number(r->volume_change)}, {"split_edges", r->split_edges},
-                {"dropped_vertices", r->dropped_vertices}};
+                {"dropped_vertices", r->dropped_vertices}, {"heat_content_change", number(r->heat_content_change)},
+                {"mean_temperature_change", number(r->mean_temperature_change)}};
           }
         if (const auto &f = s.free_surface)
           {
@@ -297,10 +313,11 @@ namespace dieflow
           cycle["heat"] = {{"solves", h->solves}, {"settled", h->settled}, {"last_change", number(h->last_change)},
                            {"plastic_work", number(h->plastic_work)}, {"plastic_heat", number(h->plastic_heat)},
                            {"friction_work", number(h->friction_work)}, {"friction_heat", number(h->friction_heat)},
-                           {"carried", number(h->carried)}, {"transferred", number(h->transferred)},
+                           {"carried", number(h->carried)}, {"stored", number(h->stored)},
+                           {"transferred", number(h->transferred)},
                            {"prescribed_outflow", number(h->prescribed_outflow)},
                            {"balance_error", number(h->balance_error)}, {"T_min", number(h->T_min)},
-                           {"T_max", number(h->T_max)}, {"T_exit", number(h->T_exit)},
+                           {"T_max", number(h->T_max)}, {"T_mean", number(h->T_mean)}, {"T_exit", number(h->T_exit)},
                            {"T_exit_min", number(h->T_exit_min)}, {"T_exit_max", number(h->T_exit_max)},
                            {"cell_peclet", number(h->peclet)}};
         if (const auto &h = s.heat; h && h->T_l2_error)

@@ -9,7 +9,7 @@ namespace dieflow
 {
   namespace
   {
-    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 3";
+    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 4";
   } // namespace
 
 
@@ -35,6 +35,7 @@ namespace dieflow
       save_dies(ar, die_surfaces);
       contact.save(ar);
       report.save(ar);
+      heat.save(ar);
       // The outputs' records so far: the steps, and load-stroke.txt's rows.
       std::vector<StepRecord> steps = summary.earlier_steps;
       for (const auto &cycle : summary.cycles)
@@ -93,6 +94,7 @@ namespace dieflow
         load_dies(ar, die_surfaces);
         contact.load(ar);
         report.load(ar);
+        heat.load(ar);
         ar >> summary.earlier_steps >> incremental.earlier_load_stroke;
       }
     catch (const InputError &)
@@ -108,6 +110,14 @@ namespace dieflow
               incremental.equivalent_strain.size() == triangulation.n_active_cells(),
             entry,
             "'" + file + "' does not hold the fields of its mesh");
+    const bool heat_in_time = parameters.heat.model == HeatParameters::Model::transient;
+    require(heat_in_time == heat.has_temperature(),
+            "Heat/Model",
+            heat_in_time ? "is transient but the checkpoint's run (" + file + ") had no temperature: a restart goes on with the same model" :
+                           "is off but the checkpoint's run (" + file + ") had a temperature: set transient to go on with it");
+    require(!heat_in_time || heat.temperature_fits(),
+            "Heat/Degree",
+            "differs from the checkpoint's run (" + file + "): its temperature is of another element");
 
     incremental.record_ram_start(triangulation, parameters.goal_part());
     const double eta = incompressibility.viscosity_scale();

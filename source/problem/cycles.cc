@@ -220,7 +220,7 @@ namespace dieflow
         result = parameters.nonlinear_solver.solve(*this, velocity, log);
         if (parameters.free_surface.enabled() && result.converged)
           result = settle_free_surface(result, cycle_summary);
-        if (parameters.heat.enabled() && result.converged)
+        if (parameters.heat.model == HeatParameters::Model::steady && result.converged)
           result = couple_heat(result, cycle_summary);
       }
     catch (const SolverFailure &failure)

@@ -1,4 +1,4 @@
-// The die-flow problem's temperature: the heat equation and the flow solved in turn until the temperature settles.
+// The die-flow problem's temperature: steady, the heat equation and the flow solved in turn until T settles; in time, a heat step per time step.
 #include <dieflow/problem/problem.h>
 
 #include <algorithm>
@@ -15,17 +15,10 @@ namespace dieflow
     bool                  settled         = false;
     while (result.converged)
       {
-        // The friction work of each contact node, -F_t.v_slip (the metal's
-        // friction force against its slip on the die).
-        std::vector<std::pair<dealii::Point<dim>, double>> friction;
-        if (!contact.empty())
-          for (const auto &node : contact.results(velocity))
-            if (node.status != ContactStatus::separated)
-              friction.emplace_back(node.position, std::max(-(node.friction_force * node.slip_velocity), 0.));
         double change;
         {
           dealii::TimerOutput::Scope scope(timer, "heat");
-          change = heat.solve(dof_handler, velocity, friction);
+          change = heat.solve(dof_handler, velocity, friction_work());
         }
         ++solves;
         const HeatRecord &record = heat.record();
@@ -61,6 +54,48 @@ namespace dieflow
     return result;
   }
 
+  template <int dim>
+  std::vector<std::pair<dealii::Point<dim>, double>>
+  DieFlowProblem<dim>::friction_work() const
+  {
+    // -F_t.v_slip of each contact node: the metal's friction force against its slip on the die.
+    std::vector<std::pair<dealii::Point<dim>, double>> friction;
+    if (!contact.empty())
+      for (const auto &node : contact.results(velocity))
+        if (node.status != ContactStatus::separated)
+          friction.emplace_back(node.position, std::max(-(node.friction_force * node.slip_velocity), 0.));
+    return friction;
+  }
+
+
+
+  template <int dim>
+  void
+  DieFlowProblem<dim>::step_heat(const unsigned int n)
+  {
+    // From t_n to t_{n+1} with the flow of t_n, on the mesh of t_n: the
+    // mesh then moves, carrying T's nodal values with the metal, and the
+    // flow of t_{n+1} takes T_{n+1} (a step behind in the sources, as the
+    // mesh's move is with the velocity of t_n: first order in dt).
+    const double dt = parameters.time_stepping.time(n + 1) - parameters.time_stepping.time(n);
+    {
+      dealii::TimerOutput::Scope scope(timer, "heat");
+      heat.solve(dof_handler, velocity, friction_work(), dt);
+      heat.update_flow_temperatures();
+    }
+    heat.record().solves  = 1;
+    heat.record().settled = true;
+    const HeatRecord &record = heat.record();
+    log << "  heat to t = " << parameters.time_stepping.time(n + 1) << " s: T " << std::fixed << std::setprecision(2)
+        << record.T_min << " - " << record.T_max << " K, mean " << record.T_mean << " K; heat balance "
+        << std::scientific << std::setprecision(2) << record.balance_error << std::defaultfloat << std::setprecision(6)
+        << std::endl;
+  }
+
+
+
   template NonlinearResult DieFlowProblem<2>::couple_heat(NonlinearResult, CycleSummary &);
   template NonlinearResult DieFlowProblem<3>::couple_heat(NonlinearResult, CycleSummary &);
+  template void DieFlowProblem<2>::step_heat(const unsigned int);
+  template void DieFlowProblem<3>::step_heat(const unsigned int);
 } // namespace dieflow

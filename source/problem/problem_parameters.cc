@@ -229,10 +229,13 @@ namespace dieflow
             "Incremental/Remesh below Jacobian",
             "meshing the domain anew is available in 2D only (plane strain, axisymmetric); set 0 and "
             "Remesh interval = 0 for Dimension = 3");
-    require(!heat.enabled() || !time_stepping.incremental,
+    require(heat.model != HeatParameters::Model::steady || !time_stepping.incremental,
             "Heat/Model",
-            "steady solves the steady heat equation, for Problem = steady; heat in runs in time is not "
-            "built yet: set off");
+            "steady solves the steady heat equation, for Problem = steady; a run in time (Problem = "
+            "incremental) takes transient");
+    require(heat.model != HeatParameters::Model::transient || time_stepping.incremental,
+            "Heat/Model",
+            "transient steps the heat equation in time, for Problem = incremental; a steady run takes steady");
     require(!material.hardens() || time_stepping.incremental,
             "Material/Hardening exponent n",
             "needs Problem = incremental: a steady run carries no strain (set 0)");

@@ -15,6 +15,8 @@ namespace dieflow
   void
   DieFlowProblem<dim>::advance_configuration(const unsigned int n)
   {
+    if (parameters.heat.model == HeatParameters::Model::transient)
+      step_heat(n);
     dealii::TimerOutput::Scope scope(timer, "mesh motion");
     const auto [a, b]           = incremental.move_weights(n, dof_handler.n_dofs());
     Vector<double> displacement = velocity;
@@ -105,6 +107,12 @@ namespace dieflow
     Vector<double>          fresh_strain            = transfer.per_cell(incremental.equivalent_strain);
     Vector<double>          fresh_previous_rate     = transfer.per_cell(incremental.previous_strain_rate);
     const double            ram_displacement        = incremental.ram_displacement(triangulation);
+    // T goes over as the velocity does (nodal), its heat content measured on both meshes.
+    const bool             heat_in_time = parameters.heat.model == HeatParameters::Model::transient;
+    const auto             heat_before  = heat_in_time ? heat.integrals() : std::pair<double, double>(0, 0);
+    dealii::Vector<double> fresh_temperature;
+    if (heat_in_time)
+      fresh_temperature = heat.on_new_mesh(fresh, "before step " + std::to_string(n));
 
     // The same cells in the same order: distribute_dofs() numbers the copy
     // as it numbered fresh_dofs.
@@ -114,6 +122,14 @@ namespace dieflow
     dof_handler.distribute_dofs(fe);
     velocity = fresh_velocity;
     incompressibility.carry(Vector<double>());
+    if (heat_in_time)
+      {
+        heat.take_new_mesh(std::move(fresh_temperature));
+        const auto [content, volume]   = heat.integrals();
+        const double rho_c             = parameters.heat.heat_capacity;
+        record.heat_content_change     = content / heat_before.first - 1;
+        record.mean_temperature_change = content / (rho_c * volume) - heat_before.first / (rho_c * heat_before.second);
+      }
 
     record.cells_after      = triangulation.n_active_cells();
     record.jacobian_after   = smallest_scaled_jacobian(triangulation);
@@ -136,6 +152,9 @@ namespace dieflow
         << std::setprecision(6);
     if (record.dropped_vertices > 0)
       log << ", " << record.dropped_vertices << " crowding boundary vertices dropped";
+    if (heat_in_time)
+      log << ", heat content change " << record.heat_content_change << " (mean T " << std::showpos
+          << record.mean_temperature_change << std::noshowpos << " K)";
     if (!new_mesh.attempt.empty())
       log << ", Gmsh's first attempt failed, made with " << new_mesh.attempt;
     if (transfer.n_in_folds() > 0)

@@ -19,6 +19,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -34,6 +35,8 @@ namespace dieflow
    */
   struct HeatRecord
   {
+    /// Heat/Model = transient: the record of a step (stored, no outlet) rather than of a steady solve.
+    bool transient = false;
     /// Heat solves made, and whether the last changed T by less than the Coupling tolerance.
     unsigned int solves  = 0;
     bool         settled = false;
@@ -41,10 +44,13 @@ namespace dieflow
     double last_change = 0;
     /// The plastic work int sigma:D, beta of it, and the friction work and the metal's share (N mm/s).
     double plastic_work = 0, plastic_heat = 0, friction_work = 0, friction_heat = 0;
-    /// int rho c v.grad T, int h (T - T_ambient) over the transfer parts, the prescribed parts' reaction (N mm/s).
-    double carried = 0, transferred = 0, prescribed_outflow = 0;
-    /// (heat made - carried - transferred - prescribed outflow) / heat made.
+    /// int rho c v.grad T (steady), int rho c (T - T_old)/dt (in time: what the step stores in the metal),
+    /// int h (T - T_ambient) over the transfer parts, the prescribed parts' reaction (N mm/s).
+    double carried = 0, stored = 0, transferred = 0, prescribed_outflow = 0;
+    /// (heat made - carried - stored - transferred - prescribed outflow) / heat made.
     double balance_error = 0;
+    /// The metal's mean temperature, int rho c T / int rho c (K).
+    double T_mean = 0;
     /// The extremes of T over the metal (nodal values) and where the metal
     /// leaves: its flux-weighted mean and range over the faces it crosses outwards (mean v.n above half its mean speed).
     double T_min = 0, T_max = 0, T_exit = 0, T_exit_min = 0, T_exit_max = 0;
@@ -101,7 +107,55 @@ namespace dieflow
     double
     solve(const dealii::DoFHandler<dim> &                        flow_dofs,
           const dealii::Vector<double> &                         velocity,
-          const std::vector<std::pair<dealii::Point<dim>, double>> &friction);
+          const std::vector<std::pair<dealii::Point<dim>, double>> &friction,
+          const double                                           dt = 0);
+
+    /**
+     * In time (Heat/Model = transient) the mesh moves with the metal
+     * (updated Lagrangian, the seed paper's incremental scheme): T's nodal
+     * values move with their nodes, and a step from t_n to t_n + dt is
+     * solve() with @p dt > 0, backward Euler on the mesh of t_n with the
+     * flow of t_n:
+     *   rho c (T - T_n)/dt - div(k grad T) = beta sigma:D,
+     * no advection (the mesh velocity is the metal's) and so no SUPG; the
+     * balance then has the heat stored in the step in place of the heat carried.
+     */
+
+    /// T at the nodes of a new mesh @p fresh of the same domain (MeshTransfer), before it replaces this one.
+    dealii::Vector<double>
+    on_new_mesh(const dealii::Triangulation<dim> &fresh, const std::string &when) const;
+    /// The mesh has become the new one: its dofs, and T from on_new_mesh().
+    void
+    take_new_mesh(dealii::Vector<double> &&carried);
+    /// int rho c T (N mm, per mm of depth in plane strain) and the volume, with the geometry's weight.
+    std::pair<double, double>
+    integrals() const;
+    /// The record's extremes, mean and vertex values from the current T (at t = 0, after a new mesh).
+    void
+    record_state();
+
+    /// Checkpoints: T (its dofs are those of the saved mesh's distribute_dofs()).
+    template <class Archive>
+    void
+    save(Archive &ar) const
+    {
+      ar << temperature;
+    }
+    template <class Archive>
+    void
+    load(Archive &ar)
+    {
+      ar >> temperature;
+    }
+    /// Whether T is set on a mesh (false before the first setup, or after a checkpoint without T).
+    bool
+    has_temperature() const
+    {
+      return temperature.size() > 0;
+    }
+    /// Whether T (a checkpoint's) has as many values as this element has dofs on the mesh.
+    bool
+    temperature_fits() const;
 
     /// T at the flow's quadrature points (QGauss(velocity degree + 1), per active cell) from the current T.
     void
@@ -138,7 +192,11 @@ namespace dieflow
   private:
     /// The balance and the outputs of the solution just found.
     void
-    make_record(const dealii::DoFHandler<dim> &flow_dofs, const dealii::Vector<double> &velocity, const double friction_heat);
+    make_record(const dealii::DoFHandler<dim> &flow_dofs,
+                const dealii::Vector<double> & velocity,
+                const double                   friction_heat,
+                const dealii::Vector<double> & previous,
+                const double                   dt);
 
     const HeatParameters &             parameters;
     const Material &                   material;

@@ -25,7 +25,9 @@ namespace dieflow
       /// isothermal: every law at Material/Temperature
       off,
       /// the steady (Eulerian) heat equation on the flow's domain, coupled to the flow
-      steady
+      steady,
+      /// rho c dT/dt on the mesh that moves with the metal (Problem = incremental), a step behind the flow's
+      transient
     };
     enum class Stabilisation
     {

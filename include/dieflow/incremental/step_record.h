@@ -20,6 +20,9 @@ namespace dieflow
     unsigned int split_edges = 0;
     /// Boundary vertices that crowded their neighbours, dropped.
     unsigned int dropped_vertices = 0;
+    /// With heat in time: the heat content int rho c T, (new - old) / old, and the change of the mean T (K) it
+    /// carries (interpolation at the new nodes: the mean's change is its error, the content's holds the volume's too).
+    double heat_content_change = 0, mean_temperature_change = 0;
   };
 
   /// What a step of Problem = incremental adds to its cycle's report.
@@ -63,7 +66,8 @@ namespace dieflow
         remesh.emplace();
       if (remeshed)
         ar &remesh->step &remesh->cells_before &remesh->cells_after &remesh->jacobian_before &remesh->jacobian_after
-          &remesh->volume_change &remesh->split_edges &remesh->dropped_vertices;
+          &remesh->volume_change &remesh->split_edges &remesh->dropped_vertices &remesh->heat_content_change
+          &remesh->mean_temperature_change;
       else
         remesh.reset();
     }
