@@ -85,8 +85,12 @@ namespace dieflow
               {
                 const double ds = face_values.JxW(q) * coordinates.weight(face_values.quadrature_point(q));
                 if (h_face != parameters.transfer_coefficient.end())
-                  last.transferred +=
-                    h_face->second * (T_face[q] - parameters.ambient_temperature.at(face->boundary_id())) * ds;
+                  {
+                    const double out =
+                      h_face->second * (T_face[q] - parameters.ambient_temperature.at(face->boundary_id())) * ds;
+                    last.transferred += out;
+                    last.transferred_by_id[face->boundary_id()] += out;
+                  }
                 const double vn = v_face[q] * face_values.normal_vector(q);
                 face_flux += vn * ds;
                 face_heat += vn * T_face[q] * ds;
@@ -164,6 +168,32 @@ namespace dieflow
   }
 
   template <int dim>
+  double
+  HeatEquation<dim>::value_at(const dealii::Point<dim> &point) const
+  {
+    try
+      {
+        return dealii::VectorTools::point_value(dof_handler, temperature, point);
+      }
+    catch (...)
+      {
+        return std::numeric_limits<double>::quiet_NaN();
+      }
+  }
+
+
+
+  template <int dim>
+  double
+  HeatEquation<dim>::wall_flux(const dealii::types::boundary_id id, const double T) const
+  {
+    const auto h = parameters.transfer_coefficient.find(id);
+    return h == parameters.transfer_coefficient.end() ? 0. : h->second * (T - parameters.ambient_temperature.at(id));
+  }
+
+
+
+  template <int dim>
   std::pair<double, double>
   HeatEquation<dim>::integrals() const
   {
@@ -195,6 +225,14 @@ namespace dieflow
   HeatEquation<2>::record_state();
   template void
   HeatEquation<3>::record_state();
+  template double
+  HeatEquation<2>::value_at(const dealii::Point<2> &) const;
+  template double
+  HeatEquation<3>::value_at(const dealii::Point<3> &) const;
+  template double
+  HeatEquation<2>::wall_flux(const dealii::types::boundary_id, const double) const;
+  template double
+  HeatEquation<3>::wall_flux(const dealii::types::boundary_id, const double) const;
   template std::pair<double, double>
   HeatEquation<2>::integrals() const;
   template std::pair<double, double>

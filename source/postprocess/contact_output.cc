@@ -185,6 +185,7 @@ namespace dieflow
   write_die_profiles(const std::set<BoundaryId> &                        die_ids,
                      const std::vector<ContactNodeResult<dim>> &         results,
                      const std::vector<dealii::SymmetricTensor<2, dim>> *vertex_stress,
+                     const HeatEquation<dim> *                           heat,
                      const std::string &                                 directory)
   {
     if constexpr (dim == 3)
@@ -217,7 +218,8 @@ namespace dieflow
                                 "; degree 2: the recovered columns repeat them") << "\n"
             << "# s(mm) x(mm) y(mm) contact_pressure(MPa) friction_stress(MPa) normal_velocity(mm/s) "
                "slip_velocity(mm/s) status(0 separated, 1 stick, 2 slip) recovered_pressure(MPa) "
-               "recovered_shear(MPa)\n";
+               "recovered_shear(MPa)"
+            << (heat ? " temperature(K) heat_flux(mW/mm^2: h (T - T_ambient), into the die)" : "") << '\n';
         for (unsigned int i = 0; i < chain.size(); ++i)
           {
             const auto & r        = *chain[i];
@@ -229,8 +231,13 @@ namespace dieflow
                                       friction;
             out << std::setprecision(8) << s[i] << ' ' << r.position[0] << ' ' << r.position[1] << ' '
                 << pressure << ' ' << friction << ' ' << r.normal_rate << ' ' << r.slip_velocity * r.tangent << ' '
-                << static_cast<int>(r.status) << ' ' << (vertex_stress ? recovered[i] : pressure) << ' ' << shear
-                << '\n';
+                << static_cast<int>(r.status) << ' ' << (vertex_stress ? recovered[i] : pressure) << ' ' << shear;
+            if (heat)
+              {
+                const double T = heat->value_at(r.position);
+                out << ' ' << T << ' ' << heat->wall_flux(id, T);
+              }
+            out << '\n';
           }
         file.commit();
       }
@@ -284,10 +291,10 @@ namespace dieflow
   contact_hot_points(const ContactSet<3> &, const std::vector<ContactNodeResult<3>> &);
   template void
   write_die_profiles(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<2>> &,
-                     const std::vector<dealii::SymmetricTensor<2, 2>> *, const std::string &);
+                     const std::vector<dealii::SymmetricTensor<2, 2>> *, const HeatEquation<2> *, const std::string &);
   template void
   write_die_profiles(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<3>> &,
-                     const std::vector<dealii::SymmetricTensor<2, 3>> *, const std::string &);
+                     const std::vector<dealii::SymmetricTensor<2, 3>> *, const HeatEquation<3> *, const std::string &);
   template void
   write_die_surfaces(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<2>> &, const std::string &);
   template void

@@ -157,9 +157,10 @@ namespace dieflow
         summarise_contact(contact, results, velocity.linfty_norm(), summary);
         add_die_shares(die_ids, wall_shares, frictionless, summary);
         const auto stress = recover_profiles ?
-                              vertex_stresses(coordinates, dof_handler, velocity, view.material, pressure) :
+                              vertex_stresses(coordinates, dof_handler, velocity, view.material, pressure,
+                                                view.heat ? &view.heat->vertex_temperature : nullptr) :
                               std::vector<dealii::SymmetricTensor<2, dim>>();
-        write_die_profiles(die_ids, results, recover_profiles ? &stress : nullptr, settings.output_directory);
+        write_die_profiles(die_ids, results, recover_profiles ? &stress : nullptr, view.temperature, settings.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
         const double flow_through     = throughput(die_ids, summary.flux);
         for (const BoundaryId id : die_ids)

@@ -320,6 +320,9 @@ namespace dieflow
                            {"T_max", number(h->T_max)}, {"T_mean", number(h->T_mean)}, {"T_exit", number(h->T_exit)},
                            {"T_exit_min", number(h->T_exit_min)}, {"T_exit_max", number(h->T_exit_max)},
                            {"cell_peclet", number(h->peclet)}};
+        if (const auto &h = s.heat)
+          for (const auto &[id, out] : h->transferred_by_id)
+            cycle["heat"]["transferred_by_id"][std::to_string(id)] = number(out);
         if (const auto &h = s.heat; h && h->T_l2_error)
           cycle["heat"]["T_l2_error"] = number(*h->T_l2_error), cycle["heat"]["T_nodal_error"] = number(*h->T_nodal_error);
         cycles.push_back(std::move(cycle));

@@ -6,6 +6,26 @@
 
 namespace dieflow
 {
+  namespace
+  {
+    /// Each contact node's position and friction work -F_t.v_slip (the
+    /// metal's friction force against its slip on the die): the heat
+    /// sources at the dies.
+    template <int dim>
+    std::vector<std::pair<dealii::Point<dim>, double>>
+    friction_work(const ContactSet<dim> &contact, const Vector<double> &velocity)
+    {
+      std::vector<std::pair<dealii::Point<dim>, double>> friction;
+      if (!contact.empty())
+        for (const auto &node : contact.results(velocity))
+          if (node.status != ContactStatus::separated)
+            friction.emplace_back(node.position, std::max(-(node.friction_force * node.slip_velocity), 0.));
+      return friction;
+    }
+  } // namespace
+
+
+
   template <int dim>
   NonlinearResult
   DieFlowProblem<dim>::couple_heat(NonlinearResult result, CycleSummary &cycle)
@@ -18,7 +38,7 @@ namespace dieflow
         double change;
         {
           dealii::TimerOutput::Scope scope(timer, "heat");
-          change = heat.solve(dof_handler, velocity, friction_work());
+          change = heat.solve(dof_handler, velocity, friction_work(contact, velocity));
         }
         ++solves;
         const HeatRecord &record = heat.record();
@@ -55,21 +75,6 @@ namespace dieflow
   }
 
   template <int dim>
-  std::vector<std::pair<dealii::Point<dim>, double>>
-  DieFlowProblem<dim>::friction_work() const
-  {
-    // -F_t.v_slip of each contact node: the metal's friction force against its slip on the die.
-    std::vector<std::pair<dealii::Point<dim>, double>> friction;
-    if (!contact.empty())
-      for (const auto &node : contact.results(velocity))
-        if (node.status != ContactStatus::separated)
-          friction.emplace_back(node.position, std::max(-(node.friction_force * node.slip_velocity), 0.));
-    return friction;
-  }
-
-
-
-  template <int dim>
   void
   DieFlowProblem<dim>::step_heat(const unsigned int n)
   {
@@ -80,7 +85,7 @@ namespace dieflow
     const double dt = parameters.time_stepping.time(n + 1) - parameters.time_stepping.time(n);
     {
       dealii::TimerOutput::Scope scope(timer, "heat");
-      heat.solve(dof_handler, velocity, friction_work(), dt);
+      heat.solve(dof_handler, velocity, friction_work(contact, velocity), dt);
       heat.update_flow_temperatures();
     }
     heat.record().solves  = 1;

@@ -212,7 +212,8 @@ namespace dieflow
                              incompressibility,
                              contact,
                              parameters.time_stepping.incremental ? &incremental.equivalent_strain : nullptr,
-                             parameters.heat.enabled() ? &heat.record() : nullptr};
+                             parameters.heat.enabled() ? &heat.record() : nullptr,
+                             parameters.heat.enabled() ? &heat : nullptr};
   }
 
   template class DieFlowProblem<2>;

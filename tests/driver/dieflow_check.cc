@@ -137,11 +137,15 @@ namespace
                  {"plastic_heat", h->plastic_heat}, {"friction_work", h->friction_work},
                  {"friction_heat", h->friction_heat}, {"heat_carried", h->carried},
                  {"heat_transferred", h->transferred}, {"heat_prescribed_outflow", h->prescribed_outflow},
+                 {"heat_stored", h->stored}, {"T_mean", h->T_mean},
                  {"heat_balance", h->balance_error}, {"T_min", h->T_min}, {"T_max", h->T_max},
                  {"T_exit", h->T_exit}, {"T_exit_min", h->T_exit_min}, {"T_exit_max", h->T_exit_max},
                  {"cell_peclet", h->peclet}, {"T_l2_error", h->T_l2_error.value_or(nan)},
                  {"T_nodal_error", h->T_nodal_error.value_or(nan)}})
             cycle[name] = value;
+        if (const auto &h = s.heat)
+          for (const auto &[id, out] : h->transferred_by_id)
+            cycle["heat_transferred_" + std::to_string(id)] = out;
         cycle["free_surface_moves"]   = s.free_surface ? s.free_surface->moves : nan;
         cycle["free_surface_settled"] = s.free_surface ? s.free_surface->settled : nan;
         cycle["free_surface_move"]    = s.free_surface ? s.free_surface->largest_move : nan;

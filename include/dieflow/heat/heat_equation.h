@@ -17,6 +17,7 @@
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/solution_transfer.h>
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -47,6 +48,8 @@ namespace dieflow
     /// int rho c v.grad T (steady), int rho c (T - T_old)/dt (in time: what the step stores in the metal),
     /// int h (T - T_ambient) over the transfer parts, the prescribed parts' reaction (N mm/s).
     double carried = 0, stored = 0, transferred = 0, prescribed_outflow = 0;
+    /// int h (T - T_ambient) over each transfer part (N mm/s): the heat each die takes from the metal.
+    std::map<dealii::types::boundary_id, double> transferred_by_id;
     /// (heat made - carried - stored - transferred - prescribed outflow) / heat made.
     double balance_error = 0;
     /// The metal's mean temperature, int rho c T / int rho c (K).
@@ -153,6 +156,13 @@ namespace dieflow
     {
       return temperature.size() > 0;
     }
+    /// T at a point of the metal (NaN if no cell holds it): the die profiles' column.
+    double
+    value_at(const dealii::Point<dim> &point) const;
+    /// The heat flux density h (T - T_ambient) out through part @p id at @p T (0 where insulated), N/(mm s) = mW/mm^2.
+    double
+    wall_flux(const dealii::types::boundary_id id, const double T) const;
+
     /// Whether T (a checkpoint's) has as many values as this element has dofs on the mesh.
     bool
     temperature_fits() const;

@@ -48,6 +48,8 @@ namespace dieflow
    * the pressure recovered along the wall (pressures_along() in the
    * source), the shear t.sigma n of the stress at the node; without
    * (degree 2, whose nodal values do not zigzag): the raw values again.
+   * With @p heat (Heat/Model not off): the metal's T at the node and the heat
+   * flux density h (T - T_ambient) into the die there.
    * 3D: write_die_surfaces().
    */
   template <int dim>
@@ -55,6 +57,7 @@ namespace dieflow
   write_die_profiles(const std::set<BoundaryId> &                        die_ids,
                      const std::vector<ContactNodeResult<dim>> &         results,
                      const std::vector<dealii::SymmetricTensor<2, dim>> *vertex_stress,
+                     const HeatEquation<dim> *                           heat,
                      const std::string &                                 directory);
 
   /**

@@ -47,6 +47,8 @@ namespace dieflow
     const Vector<double> *            equivalent_strain;
     /// The temperature's record (Heat/Model), or null: isothermal.
     const HeatRecord *                heat;
+    /// The temperature field (for the die profiles), or null: isothermal.
+    const HeatEquation<dim> *         temperature;
   };
 
   /// How a run reports: where its files go, which, and its quantities of interest.

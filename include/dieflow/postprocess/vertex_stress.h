@@ -38,7 +38,8 @@ namespace dieflow
                   const DoFHandler<dim> &dof_handler,
                   const Vector<double> & velocity,
                   const Material &       material,
-                  const Vector<double> & cell_pressure);
+                  const Vector<double> & cell_pressure,
+                  const std::vector<double> *vertex_temperature = nullptr);
 
   /// The pressure alone, averaged the same way, per vertex (for the
   /// fields written to VTU).

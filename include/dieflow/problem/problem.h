@@ -194,9 +194,6 @@ namespace dieflow
     /// T from t_n to t_{n+1} with the flow of t_n (Heat/Model = transient), before the mesh moves.
     void
     step_heat(const unsigned int n);
-    /// Each contact node's position and friction work -F_t.v_slip (the heat sources at the dies).
-    std::vector<std::pair<dealii::Point<dim>, double>>
-    friction_work() const;
 
     // Checkpoints: each piece saves and loads itself            (checkpoint.cc)
     void
