@@ -278,6 +278,12 @@ namespace dieflow
               value.eta *= (*cell_hardening)[cell->active_cell_index()];
               value.d_eta *= (*cell_hardening)[cell->active_cell_index()];
             }
+          if (terms.point_hardening != nullptr)
+            {
+              const double factor = (*terms.point_hardening)[cell->active_cell_index() * viscous.n_quadrature_points + q];
+              value.eta *= factor;
+              value.d_eta *= factor;
+            }
           const double JxW = viscous.JxW(q) * coordinates.weight(viscous.quadrature_point(q));
           eta_integral += value.eta * JxW;
           volume += JxW;

@@ -168,9 +168,10 @@ namespace dieflow
       prm.declare_entry("Hardening exponent n",
                         "0",
                         Double(),
-                        "Strain hardening (Problem = incremental): the law's flow stress "
-                        "times (eps_0 + eps)^n, eps the equivalent strain the metal has "
-                        "taken (carried per cell from step to step); with Norton-Hoff "
+                        "Strain hardening: the law's flow stress times (eps_0 + eps)^n, "
+                        "eps the equivalent strain the metal has taken (Problem = "
+                        "incremental: carried per cell from step to step; steady: the "
+                        "field v.grad eps = epsdot_eq, Equivalent strain); with Norton-Hoff "
                         "sigma_eq = K (eps_0 + eps)^n epsdot^m. 0: no hardening.");
       prm.declare_entry("Hardening strain eps0",
                         "0.01",

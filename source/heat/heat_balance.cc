@@ -1,5 +1,6 @@
 // The record of a temperature solution: the heat balance, the extremes, the temperature where the metal leaves, T at the vertices.
 #include <dieflow/heat/heat_equation.h>
+#include <dieflow/mesh/scalar_field.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 namespace dieflow
 {
@@ -141,30 +143,8 @@ namespace dieflow
     last.T_mean                  = content / (parameters.heat_capacity * volume);
     last.transient               = parameters.model == HeatParameters::Model::transient;
     if (exact)
-      {
-        // The L2 error with the geometry's weight (2 pi r), at degree + 2 Gauss points.
-        const dealii::QGauss<dim> error_quadrature(fe.degree + 2);
-        dealii::FEValues<dim>     values(fe, error_quadrature, dealii::update_values | dealii::update_quadrature_points | dealii::update_JxW_values);
-        std::vector<double>       T(error_quadrature.size());
-        double                    squared = 0;
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          {
-            values.reinit(cell);
-            values.get_function_values(temperature, T);
-            for (unsigned int q = 0; q < T.size(); ++q)
-              squared += std::pow(T[q] - exact->value(values.quadrature_point(q)), 2) * values.JxW(q) *
-                         coordinates.weight(values.quadrature_point(q));
-          }
-        last.T_l2_error = std::sqrt(squared);
-        dealii::Vector<double> nodal(dof_handler.n_dofs());
-        dealii::VectorTools::interpolate(dof_handler, *exact, nodal);
-        nodal -= temperature;
-        last.T_nodal_error = nodal.linfty_norm();
-      }
-    last.vertex_temperature.assign(triangulation.n_vertices(), 0.);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      for (const unsigned int i : cell->vertex_indices())
-        last.vertex_temperature[cell->vertex_index(i)] = temperature[cell->vertex_dof_index(i, 0)];
+      std::tie(last.T_l2_error, last.T_nodal_error) = errors_against(coordinates, dof_handler, temperature, *exact);
+    last.vertex_temperature = vertex_values(dof_handler, temperature);
   }
 
   template <int dim>

@@ -2,6 +2,7 @@
 #include <dieflow/base/expressions.h>
 #include <dieflow/heat/heat_equation.h>
 #include <dieflow/incremental/mesh_transfer.h>
+#include <dieflow/mesh/scalar_field.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -353,16 +354,7 @@ namespace dieflow
   void
   HeatEquation<dim>::update_flow_temperatures()
   {
-    const dealii::QGauss<dim> quadrature(flow_quadrature);
-    dealii::FEValues<dim>     fe_values(fe, quadrature, dealii::update_values);
-    std::vector<double>       values(quadrature.size());
-    point_temperature.resize(triangulation.n_active_cells() * quadrature.size());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        fe_values.reinit(cell);
-        fe_values.get_function_values(temperature, values);
-        std::copy(values.begin(), values.end(), point_temperature.begin() + cell->active_cell_index() * quadrature.size());
-      }
+    point_temperature = values_at_points(dof_handler, temperature, flow_quadrature);
   }
 
 
@@ -371,10 +363,7 @@ namespace dieflow
   double
   HeatEquation<dim>::range() const
   {
-    if (temperature.size() == 0)
-      return 0;
-    const auto [lowest, highest] = std::minmax_element(temperature.begin(), temperature.end());
-    return *highest - *lowest;
+    return value_range(temperature);
   }
 
 

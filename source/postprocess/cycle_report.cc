@@ -135,6 +135,32 @@ namespace dieflow
     std::map<std::string, Vector<double>> nodal_fields, cell_fields;
     if (view.equivalent_strain != nullptr)
       cell_fields["equivalent_strain"] = *view.equivalent_strain;
+    // The hardening factor per cell for the stresses and fields written: a
+    // run in time's own; a steady one's at the mean of the cell's vertex
+    // strains (an output, not the solve's quadrature, as T's).
+    Vector<double> hardening;
+    if (view.terms.hardening != nullptr)
+      hardening = *view.terms.hardening;
+    else if (view.strain != nullptr && view.material.hardens())
+      {
+        hardening.reinit(triangulation.n_active_cells());
+        for (const auto &cell : triangulation.active_cell_iterators())
+          {
+            double eps = 0;
+            for (const unsigned int v : cell->vertex_indices())
+              eps += view.strain->vertex_strain[cell->vertex_index(v)] / cell->n_vertices();
+            hardening[cell->active_cell_index()] = view.material.hardening(std::max(eps, 0.));
+          }
+      }
+    if (hardening.size() > 0)
+      cell_fields["hardening_factor"] = hardening;
+    if (view.strain != nullptr)
+      {
+        const auto &eps                   = view.strain->vertex_strain;
+        nodal_fields["equivalent_strain"] = Vector<double>(eps.begin(), eps.end());
+        summary.strain                    = *view.strain;
+        summary.strain->vertex_strain.clear();
+      }
     if (view.heat != nullptr)
       {
         const auto &T           = view.heat->vertex_temperature;
@@ -158,7 +184,8 @@ namespace dieflow
         add_die_shares(die_ids, wall_shares, frictionless, summary);
         const auto stress = recover_profiles ?
                               vertex_stresses(coordinates, dof_handler, velocity, view.material, pressure,
-                                                view.heat ? &view.heat->vertex_temperature : nullptr) :
+                                                view.heat ? &view.heat->vertex_temperature : nullptr,
+                                                hardening.size() > 0 ? &hardening : nullptr) :
                               std::vector<dealii::SymmetricTensor<2, dim>>();
         write_die_profiles(die_ids, results, recover_profiles ? &stress : nullptr, view.temperature, settings.output_directory);
         nodal_fields["contact_status"] = contact.vertex_status(dof_handler);
@@ -185,6 +212,9 @@ namespace dieflow
                                         summary.heat->transient ? summary.heat->T_mean : summary.heat->T_exit);
         summary.quantities.emplace_back("T_max", summary.heat->T_max);
       }
+    // The strain the metal leaves with (flux-weighted mean).
+    if (summary.strain)
+      summary.quantities.emplace_back("eps_exit", summary.strain->eps_exit);
     if (settings.probe)
       {
         dealii::Vector<double> value(dim);

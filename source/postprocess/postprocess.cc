@@ -551,11 +551,16 @@ namespace dieflow
     class MaterialFields : public dealii::DataPostprocessor<dim>
     {
     public:
-      /// @p vertex_temperature: T per vertex of the mesh (a temperature field), or null.
-      MaterialFields(const Material &material, const CoordinateSystem<dim> &coordinates, const Vector<double> *vertex_temperature)
+      /// @p vertex_temperature: T per vertex of the mesh (a temperature field), or null;
+      /// @p cell_hardening: the hardening factor per active cell, or null.
+      MaterialFields(const Material &             material,
+                     const CoordinateSystem<dim> &coordinates,
+                     const Vector<double> *       vertex_temperature,
+                     const Vector<double> *       cell_hardening)
         : material(material)
         , coordinates(coordinates)
         , vertex_temperature(vertex_temperature)
+        , cell_hardening(cell_hardening)
       {}
 
       void
@@ -563,10 +568,11 @@ namespace dieflow
                             std::vector<Vector<double>> &computed) const override
       {
         // With a temperature field the law at the cell's mean vertex T (an output, not the solve's quadrature).
-        double T = 0;
+        double     T      = 0;
+        const auto cell   = inputs.template get_cell<dim>();
+        const double factor = cell_hardening != nullptr ? (*cell_hardening)[cell->active_cell_index()] : 1.;
         if (vertex_temperature != nullptr)
           {
-            const auto cell = inputs.template get_cell<dim>();
             for (const unsigned int v : cell->vertex_indices())
               T += (*vertex_temperature)[cell->vertex_index(v)] / cell->n_vertices();
           }
@@ -580,7 +586,8 @@ namespace dieflow
             if (coordinates.axisymmetric())
               D.hoop = hoop_rate(inputs.evaluation_points[q], inputs.solution_values[q][1], grad[1][1]);
             const double rate  = std::sqrt(2. / 3. * (D * D));
-            const double eta   = vertex_temperature != nullptr ? material.evaluate(rate, T).eta : material.evaluate(rate).eta;
+            const double eta =
+              factor * (vertex_temperature != nullptr ? material.evaluate(rate, T).eta : material.evaluate(rate).eta);
             computed[q][0]     = rate;
             computed[q][1]     = 3. * eta * rate;
             computed[q][2]     = eta;
@@ -603,6 +610,7 @@ namespace dieflow
       const Material &             material;
       const CoordinateSystem<dim> &coordinates;
       const Vector<double> *       vertex_temperature;
+      const Vector<double> *       cell_hardening;
     };
 
     /// Values per vertex of the triangulation as a Q1 field.
@@ -655,9 +663,11 @@ namespace dieflow
       dim, dealii::DataComponentInterpretation::component_is_part_of_vector);
     data_out.add_data_vector(velocity, names, dealii::DataOut<dim>::type_dof_data, interpretation);
     const auto                temperature = nodal_fields.find("temperature");
+    const auto                hardening   = cell_fields.find("hardening_factor");
     const MaterialFields<dim> material_fields(material,
                                               coordinates,
-                                              temperature == nodal_fields.end() ? nullptr : &temperature->second);
+                                              temperature == nodal_fields.end() ? nullptr : &temperature->second,
+                                              hardening == cell_fields.end() ? nullptr : &hardening->second);
     data_out.add_data_vector(velocity, material_fields);
     data_out.add_data_vector(scalar_dofs, p_nodal, "pressure");
     std::vector<Vector<double>> extra;

@@ -140,6 +140,10 @@ namespace dieflow
             << " + through walls " << 1e-3 * h->transferred << " + at prescribed T " << 0. + 1e-3 * h->prescribed_outflow
             << " (balance " << std::setprecision(2) << h->balance_error << ")\n";
       }
+    if (const auto &e = last.strain)
+      out << "  equivalent strain: where the metal leaves eps_exit = " << quantity("eps_exit", "") << " ("
+          << std::setprecision(4) << e->eps_exit_min << " - " << e->eps_exit_max << "), largest " << e->eps_max
+          << "; hardening factor " << e->hardening_min << " - " << e->hardening_max << "\n";
     for (const auto &[name, value] : last.quantities)
       if (name == "v_x(probe)")
         out << "  probe velocity v_x = " << quantity(name, "mm/s") << '\n';
@@ -325,6 +329,15 @@ namespace dieflow
             cycle["heat"]["transferred_by_id"][std::to_string(id)] = number(out);
         if (const auto &h = s.heat; h && h->T_l2_error)
           cycle["heat"]["T_l2_error"] = number(*h->T_l2_error), cycle["heat"]["T_nodal_error"] = number(*h->T_nodal_error);
+        if (const auto &e = s.strain)
+          {
+            cycle["strain"] = {{"solves", e->solves}, {"settled", e->settled}, {"last_change", number(e->last_change)},
+                               {"eps_max", number(e->eps_max)}, {"eps_exit", number(e->eps_exit)},
+                               {"eps_exit_min", number(e->eps_exit_min)}, {"eps_exit_max", number(e->eps_exit_max)},
+                               {"hardening_min", number(e->hardening_min)}, {"hardening_max", number(e->hardening_max)}};
+            if (e->l2_error)
+              cycle["strain"]["l2_error"] = number(*e->l2_error), cycle["strain"]["nodal_error"] = number(*e->nodal_error);
+          }
         cycles.push_back(std::move(cycle));
       }
 

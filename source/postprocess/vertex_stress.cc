@@ -45,7 +45,8 @@ namespace dieflow
                   const Material &                material,
                   const PressureProjection<dim> & projection,
                   const double *                  coefficients,
-                  const std::vector<double> &     temperature)
+                  const std::vector<double> &     temperature,
+                  const double                    hardening)
     {
       const dealii::FEValuesExtractors::Vector velocities(0);
       std::vector<SymmetricTensor<2, dim>>     D(fe_values.n_quadrature_points), sigma(D.size());
@@ -58,7 +59,8 @@ namespace dieflow
           // The points are vertices, some on the axis: the hoop rate's limit there.
           const double hoop =
             coordinates.axisymmetric() ? hoop_rate(fe_values.quadrature_point(q), v[q][1], D[q][1][1]) : 0.;
-          const double eta = material.evaluate(std::sqrt(2. / 3. * (D[q] * D[q] + hoop * hoop)), temperature[q]).eta;
+          const double eta =
+            hardening * material.evaluate(std::sqrt(2. / 3. * (D[q] * D[q] + hoop * hoop)), temperature[q]).eta;
           const double p   = projection.n_modes() > 1 ? projection.value(coefficients, fe_values.quadrature_point(q)) :
                                                         coefficients[0];
           sigma[q] = 2 * eta * D[q] - p * dealii::unit_symmetric_tensor<dim>();
@@ -95,7 +97,8 @@ namespace dieflow
                   const Vector<double> & velocity,
                   const Material &       material,
                   const Vector<double> & cell_pressure,
-                  const std::vector<double> *vertex_temperature)
+                  const std::vector<double> *vertex_temperature,
+                  const Vector<double> *     cell_hardening)
   {
     PressureProjection<dim> projection(dof_handler.get_fe());
     // The law at each vertex's T (Heat/Model), or at Material/Temperature.
@@ -114,18 +117,19 @@ namespace dieflow
         for (const unsigned int v : cell->vertex_indices())
           temperature[v] = (*vertex_temperature)[cell->vertex_index(v)];
       return cell_stresses(coordinates, fe_values, velocity, material, projection,
-                           cell_pressure.begin() + cell->active_cell_index() * n_modes, temperature);
+                           cell_pressure.begin() + cell->active_cell_index() * n_modes, temperature,
+                           cell_hardening != nullptr ? (*cell_hardening)[cell->active_cell_index()] : 1.);
     });
   }
 
 
 
   template std::vector<SymmetricTensor<2, 2>>
-  vertex_stresses<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &, const std::vector<double> *);
+  vertex_stresses<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &, const Material &, const Vector<double> &, const std::vector<double> *, const Vector<double> *);
   template std::vector<double>
   vertex_pressures<2>(const DoFHandler<2> &, const Vector<double> &);
   template std::vector<SymmetricTensor<2, 3>>
-  vertex_stresses<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const Material &, const Vector<double> &, const std::vector<double> *);
+  vertex_stresses<3>(const CoordinateSystem<3> &, const DoFHandler<3> &, const Vector<double> &, const Material &, const Vector<double> &, const std::vector<double> *, const Vector<double> *);
   template std::vector<double>
   vertex_pressures<3>(const DoFHandler<3> &, const Vector<double> &);
 } // namespace dieflow

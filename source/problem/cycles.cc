@@ -214,14 +214,21 @@ namespace dieflow
       {
         if (cycle == 0)
           newtonian_start();
+        // A hardening law's first flow: at the strain of the Newtonian start's (not of the metal entering).
+        // (A Newtonian law has no start: the velocity is zero inside.)
+        if (cycle == 0 && parameters.steady_strain() && parameters.material.hardens() && !parameters.material.is_newtonian())
+          {
+            strain.solve(dof_handler, velocity);
+            strain.update_flow_hardening();
+          }
         assembler.update_dual(dof_handler, velocity, nullptr, 0);
         start = velocity;
         constraints.distribute(start);
         result = parameters.nonlinear_solver.solve(*this, velocity, log);
         if (parameters.free_surface.enabled() && result.converged)
           result = settle_free_surface(result, cycle_summary);
-        if (parameters.heat.model == HeatParameters::Model::steady && result.converged)
-          result = couple_heat(result, cycle_summary);
+        if ((parameters.heat.model == HeatParameters::Model::steady || parameters.steady_strain()) && result.converged)
+          result = couple_fields(result, cycle_summary);
       }
     catch (const SolverFailure &failure)
       {

@@ -1,4 +1,4 @@
-// The die-flow problem's temperature: steady, the heat equation and the flow solved in turn until T settles; in time, a heat step per time step.
+// The die-flow problem's temperature and strain: steady, the heat and strain equations and the flow solved in turn until they settle; in time, a heat step per time step.
 #include <dieflow/problem/problem.h>
 
 #include <algorithm>
@@ -28,40 +28,77 @@ namespace dieflow
 
   template <int dim>
   NonlinearResult
-  DieFlowProblem<dim>::couple_heat(NonlinearResult result, CycleSummary &cycle)
+  DieFlowProblem<dim>::couple_fields(NonlinearResult result, CycleSummary &cycle)
   {
-    const HeatParameters &heat_parameters = parameters.heat;
-    unsigned int          solves          = 0;
-    bool                  settled         = false;
+    const HeatParameters &  heat_parameters   = parameters.heat;
+    const StrainParameters &strain_parameters = parameters.strain;
+    const bool              with_heat         = heat_parameters.model == HeatParameters::Model::steady;
+    const bool              with_strain       = parameters.steady_strain();
+    // Without hardening the strain is read from the flow and changes nothing in it.
+    const bool   hardening    = with_strain && parameters.material.hardens();
+    unsigned int heat_solves = 0, strain_solves = 0;
+    bool         heat_settled = !with_heat, strain_settled = !with_strain;
     while (result.converged)
       {
-        double change;
-        {
-          dealii::TimerOutput::Scope scope(timer, "heat");
-          change = heat.solve(dof_handler, velocity, friction_work(contact, velocity));
-        }
-        ++solves;
-        const HeatRecord &record = heat.record();
-        // Against the temperature's range over the metal (or 1e-6 K where it is uniform).
-        const double bound = std::max(heat_parameters.coupling_tolerance * heat.range(), 1e-6);
-        settled            = change <= bound;
-        log << "  heat " << solves << ": T " << std::fixed << std::setprecision(2) << record.T_min << " - "
-            << record.T_max << " K, leaving at " << record.T_exit << " K; change " << std::scientific
-            << std::setprecision(2) << change << " K (settled below " << bound << "), heat balance "
-            << record.balance_error << std::defaultfloat << std::setprecision(6) << std::endl;
-        if (settled)
+        double heat_change = 0, heat_bound = 0, strain_change = 0, strain_bound = 0;
+        if (with_heat)
+          {
+            {
+              dealii::TimerOutput::Scope scope(timer, "heat");
+              heat_change = heat.solve(dof_handler, velocity, friction_work(contact, velocity));
+            }
+            ++heat_solves;
+            const HeatRecord &record = heat.record();
+            // Against the temperature's range over the metal (or 1e-6 K where it is uniform).
+            heat_bound   = std::max(heat_parameters.coupling_tolerance * heat.range(), 1e-6);
+            heat_settled = heat_change <= heat_bound;
+            log << "  heat " << heat_solves << ": T " << std::fixed << std::setprecision(2) << record.T_min << " - "
+                << record.T_max << " K, leaving at " << record.T_exit << " K; change " << std::scientific
+                << std::setprecision(2) << heat_change << " K (settled below " << heat_bound << "), heat balance "
+                << record.balance_error << std::defaultfloat << std::setprecision(6) << std::endl;
+          }
+        if (with_strain)
+          {
+            {
+              dealii::TimerOutput::Scope scope(timer, "strain");
+              strain_change = strain.solve(dof_handler, velocity, hardening);
+            }
+            ++strain_solves;
+            const StrainRecord &record = strain.record();
+            strain_bound   = std::max(strain_parameters.coupling_tolerance * strain.range(), 1e-9);
+            strain_settled = !hardening || strain_change <= strain_bound;
+            log << "  strain " << strain_solves << ": eps leaving " << std::setprecision(5) << record.eps_exit
+                << " (" << record.eps_exit_min << " - " << record.eps_exit_max << "), largest " << record.eps_max
+                << "; change " << std::scientific << std::setprecision(2) << strain_change << " (settled below "
+                << strain_bound << ")" << std::defaultfloat << std::setprecision(6) << std::endl;
+          }
+        if (heat_settled && strain_settled)
           break;
-        if (solves == heat_parameters.coupling_iterations)
+        if (!heat_settled && heat_solves == heat_parameters.coupling_iterations)
           {
             result.converged = false;
-            result.failure   = "the temperature and the flow did not settle in " + std::to_string(solves) +
-                             " heat solves (the last changed T by " + deck_number(change) + " K, more than " +
-                             deck_number(bound) + " K): raise Heat/Coupling iterations (it is " +
+            result.failure   = "the temperature and the flow did not settle in " + std::to_string(heat_solves) +
+                             " heat solves (the last changed T by " + deck_number(heat_change) + " K, more than " +
+                             deck_number(heat_bound) + " K): raise Heat/Coupling iterations (it is " +
                              std::to_string(heat_parameters.coupling_iterations) + ") or Heat/Coupling tolerance";
             break;
           }
-        // The flow at the new temperature, from the last velocity.
-        heat.update_flow_temperatures();
+        if (!strain_settled && strain_solves == strain_parameters.coupling_iterations)
+          {
+            result.converged = false;
+            result.failure   = "the strain hardening and the flow did not settle in " + std::to_string(strain_solves) +
+                             " strain solves (the last changed eps by " + deck_number(strain_change) +
+                             ", more than " + deck_number(strain_bound) +
+                             "): raise Equivalent strain/Coupling iterations (it is " +
+                             std::to_string(strain_parameters.coupling_iterations) +
+                             ") or Equivalent strain/Coupling tolerance";
+            break;
+          }
+        // The flow at the new temperature and hardening, from the last velocity.
+        if (with_heat)
+          heat.update_flow_temperatures();
+        if (hardening)
+          strain.update_flow_hardening();
         NonlinearResult next = parameters.nonlinear_solver.solve(*this, velocity, log);
         next.iterations += result.iterations;
         next.linear_solves += result.linear_solves;
@@ -69,8 +106,10 @@ namespace dieflow
         if (parameters.free_surface.enabled() && result.converged)
           result = settle_free_surface(result, cycle);
       }
-    heat.record().solves  = solves;
-    heat.record().settled = settled;
+    if (with_heat)
+      heat.record().solves = heat_solves, heat.record().settled = heat_settled;
+    if (with_strain)
+      strain.record().solves = strain_solves, strain.record().settled = strain_settled;
     return result;
   }
 
@@ -99,8 +138,8 @@ namespace dieflow
 
 
 
-  template NonlinearResult DieFlowProblem<2>::couple_heat(NonlinearResult, CycleSummary &);
-  template NonlinearResult DieFlowProblem<3>::couple_heat(NonlinearResult, CycleSummary &);
+  template NonlinearResult DieFlowProblem<2>::couple_fields(NonlinearResult, CycleSummary &);
+  template NonlinearResult DieFlowProblem<3>::couple_fields(NonlinearResult, CycleSummary &);
   template void DieFlowProblem<2>::step_heat(const unsigned int);
   template void DieFlowProblem<3>::step_heat(const unsigned int);
 } // namespace dieflow

@@ -67,9 +67,13 @@ namespace dieflow
                                                const Linearization   linearization,
                                                const FlowTerms<dim> &terms)
   {
-    FlowTerms<dim> with_hardening = terms;
-    with_hardening.hardening      = incremental.hardening();
-    matrix_symmetric              = system.assemble(v, with_hardening, linearization, &system_matrix, system_rhs).symmetric;
+    // The penalty form's terms with what the flow reads besides (hardening, temperature).
+    const FlowTerms<dim> state = flow_terms();
+    FlowTerms<dim>       full  = terms;
+    full.hardening             = state.hardening;
+    full.point_hardening       = state.point_hardening;
+    full.temperature           = state.temperature;
+    matrix_symmetric           = system.assemble(v, full, linearization, &system_matrix, system_rhs).symmetric;
     return matrix_symmetric;
   }
 

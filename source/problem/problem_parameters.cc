@@ -106,6 +106,7 @@ namespace dieflow
     ContactParameters::declare_parameters(prm);
     FreeSurfaceParameters::declare_parameters(prm);
     HeatParameters::declare_parameters(prm);
+    StrainParameters::declare_parameters(prm);
     prm.enter_subsection("Refinement");
     prm.declare_entry("Probe point",
                       "auto",
@@ -166,6 +167,7 @@ namespace dieflow
     prm.leave_subsection();
     free_surface.parse_parameters(prm);
     heat.parse_parameters(prm);
+    strain.parse_parameters(prm);
     check_entries();
 
     prm.enter_subsection("Refinement");
@@ -236,9 +238,13 @@ namespace dieflow
     require(heat.model != HeatParameters::Model::transient || time_stepping.incremental,
             "Heat/Model",
             "transient steps the heat equation in time, for Problem = incremental; a steady run takes steady");
-    require(!material.hardens() || time_stepping.incremental,
+    require(!material.hardens() || !heat.enabled(),
             "Material/Hardening exponent n",
-            "needs Problem = incremental: a steady run carries no strain (set 0)");
+            "a hardening law with a temperature field (Heat/Model) is not built yet: the heat of "
+            "deformation would miss the hardening (set 0, or Heat/Model = off)");
+    require(!strain.requested || !time_stepping.incremental,
+            "Equivalent strain/Steady field",
+            "is for Problem = steady: a run in time carries the strain with the metal (set false)");
     if (time_stepping.incremental)
       {
         require(refinement.cycles == 1,

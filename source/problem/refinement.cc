@@ -59,6 +59,8 @@ namespace dieflow
     transfer.prepare_for_coarsening_and_refinement(velocity);
     if (parameters.heat.enabled())
       heat.prepare_refinement();
+    if (parameters.steady_strain())
+      strain.prepare_refinement();
     if (carry_stress)
       cell_transfer.prepare_for_coarsening_and_refinement(cell_values);
     triangulation.execute_coarsening_and_refinement();
@@ -68,6 +70,8 @@ namespace dieflow
     velocity = transferred;
     if (parameters.heat.enabled())
       heat.finish_refinement();
+    if (parameters.steady_strain())
+      strain.finish_refinement();
 
     Vector<double> carried;
     if (carry_stress)

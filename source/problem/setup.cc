@@ -57,6 +57,7 @@ namespace dieflow
     , system(dof_handler, update_constraints, assembler, contact)
     , incremental(parameters.time_stepping, parameters.coordinates, parameters.material)
     , heat(parameters.heat, parameters.material, parameters.coordinates, triangulation, parameters.velocity_degree)
+    , strain(parameters.strain, parameters.material, parameters.coordinates, triangulation, parameters.velocity_degree)
     , report(report_settings(parameters), log)
   {
     contact.initialize(parameters.contact);
@@ -140,6 +141,8 @@ namespace dieflow
     system_rhs.reinit(dof_handler.n_dofs());
     if (parameters.heat.enabled())
       heat.setup();
+    if (parameters.steady_strain())
+      strain.setup();
   }
 
 
@@ -187,9 +190,11 @@ namespace dieflow
   DieFlowProblem<dim>::flow_terms()
   {
     FlowTerms<dim> terms = incompressibility.terms();
-    terms.hardening      = incremental.hardening();
+    terms.hardening      = parameters.time_stepping.incremental ? incremental.hardening() : nullptr;
     if (parameters.heat.enabled())
       terms.temperature = heat.flow_temperatures();
+    if (parameters.steady_strain() && parameters.material.hardens())
+      terms.point_hardening = strain.flow_hardening();
     return terms;
   }
 
@@ -213,7 +218,8 @@ namespace dieflow
                              contact,
                              parameters.time_stepping.incremental ? &incremental.equivalent_strain : nullptr,
                              parameters.heat.enabled() ? &heat.record() : nullptr,
-                             parameters.heat.enabled() ? &heat : nullptr};
+                             parameters.heat.enabled() ? &heat : nullptr,
+                             parameters.steady_strain() ? &strain.record() : nullptr};
   }
 
   template class DieFlowProblem<2>;

@@ -146,6 +146,14 @@ namespace
         if (const auto &h = s.heat)
           for (const auto &[id, out] : h->transferred_by_id)
             cycle["heat_transferred_" + std::to_string(id)] = out;
+        // With a steady strain field (strain_field.h).
+        if (const auto &e = s.strain)
+          for (const auto &[name, value] : std::vector<std::pair<std::string, double>>{
+                 {"strain_solves", e->solves}, {"strain_settled", e->settled}, {"eps_max", e->eps_max},
+                 {"eps_exit", e->eps_exit}, {"eps_exit_min", e->eps_exit_min}, {"eps_exit_max", e->eps_exit_max},
+                 {"hardening_min", e->hardening_min}, {"hardening_max", e->hardening_max},
+                 {"eps_l2_error", e->l2_error.value_or(nan)}, {"eps_nodal_error", e->nodal_error.value_or(nan)}})
+            cycle[name] = value;
         cycle["free_surface_moves"]   = s.free_surface ? s.free_surface->moves : nan;
         cycle["free_surface_settled"] = s.free_surface ? s.free_surface->settled : nan;
         cycle["free_surface_move"]    = s.free_surface ? s.free_surface->largest_move : nan;

@@ -59,6 +59,9 @@ namespace dieflow
     /// Material::hardening()), or null: eta and its rate derivative scale
     /// alike, so the Newton tangent stays consistent.
     const Vector<double> *hardening = nullptr;
+    /// A factor of the viscosity at the viscous term's quadrature points
+    /// (indexed as temperature; the steady strain field, StrainField), or null.
+    const std::vector<double> *point_hardening = nullptr;
     /// The temperature at the viscous term's quadrature points (QGauss(degree
     /// + 1), index active cell x points + point; HeatEquation), or null: the
     /// law at Material/Temperature (Material::evaluate(rate, T)).

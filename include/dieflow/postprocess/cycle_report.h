@@ -49,6 +49,8 @@ namespace dieflow
     const HeatRecord *                heat;
     /// The temperature field (for the die profiles), or null: isothermal.
     const HeatEquation<dim> *         temperature;
+    /// The steady equivalent strain field's record, or null.
+    const StrainRecord *              strain;
   };
 
   /// How a run reports: where its files go, which, and its quantities of interest.

@@ -5,6 +5,7 @@
 #include <dieflow/contact/contact_results.h>
 #include <dieflow/free_surface/free_surface.h>
 #include <dieflow/heat/heat_equation.h>
+#include <dieflow/strain/strain_field.h>
 #include <dieflow/incremental/step_record.h>
 #include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/solvers/linear_solver.h>
@@ -139,6 +140,8 @@ namespace dieflow
     std::optional<FreeSurfaceRecord> free_surface;
     /// With a temperature field (its vertex values left out).
     std::optional<HeatRecord> heat;
+    /// With a steady strain field (its vertex values left out).
+    std::optional<StrainRecord> strain;
   };
 
   /// The value named @p name among (name, value) pairs such as

@@ -23,6 +23,10 @@ namespace dieflow
    * them) at every vertex: each cell's value at the vertex, averaged over
    * the cells around it with the cells' areas as weights.
    *
+   * With @p vertex_temperature the law at each vertex's T; with
+   * @p cell_hardening (per active cell) the viscosity times the cell's
+   * hardening factor.
+   *
    * What it is for: the shear t.sigma n of degree-1 die profiles. The
    * nodal reaction of a node that sticks zigzags from node to node, sign
    * changes included, with the Q1-P0 pressure's alternating mode, which
@@ -39,7 +43,8 @@ namespace dieflow
                   const Vector<double> & velocity,
                   const Material &       material,
                   const Vector<double> & cell_pressure,
-                  const std::vector<double> *vertex_temperature = nullptr);
+                  const std::vector<double> *vertex_temperature = nullptr,
+                  const Vector<double> *     cell_hardening     = nullptr);
 
   /// The pressure alone, averaged the same way, per vertex (for the
   /// fields written to VTU).

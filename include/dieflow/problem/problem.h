@@ -16,6 +16,7 @@
 #include <dieflow/problem/problem_parameters.h>
 #include <dieflow/solvers/linear_solver.h>
 #include <dieflow/solvers/nonlinear_solver.h>
+#include <dieflow/strain/strain_field.h>
 #include <dieflow/system/system_assembler.h>
 
 #include <deal.II/base/timer.h>
@@ -47,7 +48,7 @@ namespace dieflow
    *       accept_step                                       (newton.cc);
    *     a steady free surface moved onto the streamlines and solved again
    *       until it settles                              (free_surface.cc);
-   *     the temperature and the flow solved in turn until T settles (heat.cc);
+   *     the temperature, the strain and the flow in turn until they settle (heat.cc);
    *     the report (CycleReport), its guards, the study, summary.json;
    *     a checkpoint in time                            (checkpoint.cc).
    *
@@ -188,9 +189,9 @@ namespace dieflow
     NonlinearResult
     settle_free_surface(NonlinearResult result, CycleSummary &cycle);
 
-    /// Heat, then the flow at the new T, in turn until T settles (Heat/Model = steady). (heat.cc)
+    /// Heat and strain, then the flow at the new T and hardening, in turn until they settle (steady). (heat.cc)
     NonlinearResult
-    couple_heat(NonlinearResult result, CycleSummary &cycle);
+    couple_fields(NonlinearResult result, CycleSummary &cycle);
     /// T from t_n to t_{n+1} with the flow of t_n (Heat/Model = transient), before the mesh moves.
     void
     step_heat(const unsigned int n);
@@ -228,6 +229,7 @@ namespace dieflow
     IncrementalState<dim>  incremental;
     FreeSurface            free_surface;
     HeatEquation<dim>      heat;
+    StrainField<dim>       strain;
     CycleReport<dim>       report;
     StudyTable             study;
     /// The contact states come from a solve (false until the first of a

@@ -8,6 +8,7 @@
 #include <dieflow/flow/material.h>
 #include <dieflow/free_surface/free_surface.h>
 #include <dieflow/heat/heat_parameters.h>
+#include <dieflow/strain/strain_field.h>
 #include <dieflow/incremental/checkpoint.h>
 #include <dieflow/incremental/remeshing.h>
 #include <dieflow/incremental/time_stepping.h>
@@ -115,6 +116,13 @@ namespace dieflow
     ContactParameters       contact;
     FreeSurfaceParameters   free_surface;
     HeatParameters          heat;
+    StrainParameters        strain;
+    /// Whether a steady run solves the equivalent strain as a field (asked for, or the law hardens).
+    bool
+    steady_strain() const
+    {
+      return !time_stepping.incremental && (strain.requested || material.hardens());
+    }
     /// Where the velocity is reported as a quantity of interest (if any).
     std::optional<dealii::Point<dim>> probe;
     /// Verification/Exact velocity (if any).
