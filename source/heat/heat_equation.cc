@@ -154,7 +154,9 @@ namespace dieflow
   HeatEquation<dim>::solve(const dealii::DoFHandler<dim> &                           flow_dofs,
                            const dealii::Vector<double> &                            velocity,
                            const std::vector<std::pair<dealii::Point<dim>, double>> &friction,
-                           const double                                              dt)
+                           const double                                              dt,
+                           const dealii::Vector<double> *                            cell_hardening,
+                           const std::vector<double> *                               point_hardening)
   {
     const double rho_c = parameters.heat_capacity, k = parameters.conductivity, beta = parameters.taylor_quinney;
     // In time the mesh moves with the metal: no advection, nothing to stabilise.
@@ -163,6 +165,8 @@ namespace dieflow
     const bool   second_derivatives = supg && fe.degree > 1;
     const dealii::QGauss<dim>     quadrature(fe.degree + 1);
     const dealii::QGauss<dim - 1> face_quadrature(fe.degree + 1);
+    Assert(point_hardening == nullptr || fe.degree + 1 == flow_quadrature,
+           dealii::ExcMessage("The point hardening factors are at the flow's quadrature points."));
     dealii::FEValues<dim>         fe_values(fe,
                                     quadrature,
                                     dealii::update_values | dealii::update_gradients | dealii::update_quadrature_points |
@@ -200,12 +204,15 @@ namespace dieflow
         cell_matrix = 0;
         cell_rhs    = 0;
         const double h = cell->diameter() / std::sqrt(double(dim)) / fe.degree;
+        const double cell_factor = cell_hardening != nullptr ? (*cell_hardening)[cell->active_cell_index()] : 1.;
         for (unsigned int q = 0; q < n_q; ++q)
           {
             const auto & x    = fe_values.quadrature_point(q);
             const double dx   = fe_values.JxW(q) * coordinates.weight(x);
             const double rate = std::sqrt(2. / 3. * (D[q] * D[q]));
-            const double work = 2. * material.evaluate(rate, T_old[q]).eta * (D[q] * D[q]);
+            const double factor =
+              cell_factor * (point_hardening != nullptr ? (*point_hardening)[cell->active_cell_index() * n_q + q] : 1.);
+            const double work = 2. * factor * material.evaluate(rate, T_old[q]).eta * (D[q] * D[q]);
             const double source = beta * work;
             last.plastic_work += work * dx;
             const double speed  = transient ? 0. : v[q].norm();

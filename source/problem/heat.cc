@@ -45,7 +45,8 @@ namespace dieflow
           {
             {
               dealii::TimerOutput::Scope scope(timer, "heat");
-              heat_change = heat.solve(dof_handler, velocity, friction_work(contact, velocity));
+              heat_change = heat.solve(dof_handler, velocity, friction_work(contact, velocity), 0, nullptr,
+                                       hardening ? strain.flow_hardening() : nullptr);
             }
             ++heat_solves;
             const HeatRecord &record = heat.record();
@@ -124,7 +125,7 @@ namespace dieflow
     const double dt = parameters.time_stepping.time(n + 1) - parameters.time_stepping.time(n);
     {
       dealii::TimerOutput::Scope scope(timer, "heat");
-      heat.solve(dof_handler, velocity, friction_work(contact, velocity), dt);
+      heat.solve(dof_handler, velocity, friction_work(contact, velocity), dt, incremental.hardening());
       heat.update_flow_temperatures();
     }
     heat.record().solves  = 1;

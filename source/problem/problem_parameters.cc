@@ -238,10 +238,11 @@ namespace dieflow
     require(heat.model != HeatParameters::Model::transient || time_stepping.incremental,
             "Heat/Model",
             "transient steps the heat equation in time, for Problem = incremental; a steady run takes steady");
-    require(!material.hardens() || !heat.enabled(),
-            "Material/Hardening exponent n",
-            "a hardening law with a temperature field (Heat/Model) is not built yet: the heat of "
-            "deformation would miss the hardening (set 0, or Heat/Model = off)");
+    require(!material.hardens() || time_stepping.incremental || heat.model != HeatParameters::Model::steady ||
+              heat.degree == 0 || heat.degree == velocity_degree,
+            "Heat/Degree",
+            "a steady run with a hardening law takes the temperature's degree of the velocity (0 or " +
+              std::to_string(velocity_degree) + "): the heat of deformation reads the hardening at the flow's points");
     require(!strain.requested || !time_stepping.incremental,
             "Equivalent strain/Steady field",
             "is for Problem = steady: a run in time carries the strain with the metal (set false)");

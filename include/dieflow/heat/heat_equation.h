@@ -106,12 +106,19 @@ namespace dieflow
      * current T) and the contact nodes' friction work @p friction
      * ((position, -F_t.v_slip) per node); returns the largest change of T
      * in K. The flow keeps its temperatures until update_flow_temperatures().
+     * A hardening law's factor (eps_0 + eps)^n multiplies the viscosity of
+     * the plastic work as it does the flow's: @p hardening's cell factors
+     * (a run in time) and point factors (the steady strain field, at the
+     * flow's quadrature points: the temperature's degree must be the
+     * velocity's, ProblemParameters' check).
      */
     double
     solve(const dealii::DoFHandler<dim> &                        flow_dofs,
           const dealii::Vector<double> &                         velocity,
           const std::vector<std::pair<dealii::Point<dim>, double>> &friction,
-          const double                                           dt = 0);
+          const double                                           dt        = 0,
+          const dealii::Vector<double> *                         cell_hardening  = nullptr,
+          const std::vector<double> *                            point_hardening = nullptr);
 
     /**
      * In time (Heat/Model = transient) the mesh moves with the metal
