@@ -66,7 +66,9 @@ namespace dieflow
             }
             ++strain_solves;
             const StrainRecord &record = strain.record();
-            strain_bound   = std::max(strain_parameters.coupling_tolerance * strain.range(), 1e-9);
+            // Against eps's own root mean square (its range is a dead zone's
+            // strain, which grows without bound in a steady flow).
+            strain_bound   = std::max(strain_parameters.coupling_tolerance * strain.root_mean_square(), 1e-9);
             strain_settled = !hardening || strain_change <= strain_bound;
             log << "  strain " << strain_solves << ": eps leaving " << std::setprecision(5) << record.eps_exit
                 << " (" << record.eps_exit_min << " - " << record.eps_exit_max << "), largest " << record.eps_max

@@ -34,7 +34,7 @@ namespace dieflow
     std::string exact_strain;
     /// The most strain solves per cycle (each followed by the flow at the new hardening), and when they have settled.
     unsigned int coupling_iterations = 20;
-    double       coupling_tolerance  = 1e-3;
+    double       coupling_tolerance  = 3e-3;
 
     static void
     declare_parameters(ParameterHandler &prm);
@@ -122,9 +122,12 @@ namespace dieflow
     /// sqrt(int f^2 dx / int dx) over the metal (2 pi r dx in the axisymmetric geometry).
     double
     root_mean_square(const dealii::Vector<double> &field) const;
-    /// eps's range over the metal: what the coupling's change is measured against.
+    /// eps's own root mean square over the metal: what the coupling's change is measured against.
     double
-    range() const;
+    root_mean_square() const
+    {
+      return root_mean_square(strain);
+    }
 
     const StrainRecord &
     record() const
