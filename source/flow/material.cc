@@ -1,6 +1,7 @@
-// The material: the viscosity laws (Newtonian, Norton-Hoff, Sellars-Tegart), their regularisation and bounds, strain hardening, the penalty factor.
+// The material: the viscosity laws (Newtonian, Norton-Hoff, Sellars-Tegart, Hansel-Spittel), their regularisation and bounds, strain hardening, the penalty factor.
 #include <dieflow/flow/material.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -10,6 +11,8 @@ namespace dieflow
   {
     // Universal gas constant, J/(mol K).
     constexpr double gas_constant = 8.314462618;
+    // 0 C in K: Hansel-Spittel's constants are fitted to T in degrees Celsius.
+    constexpr double zero_celsius = 273.15;
   } // namespace
 
   NewtonianLaw::NewtonianLaw(const double eta)
@@ -87,6 +90,54 @@ namespace dieflow
 
 
 
+  HanselSpittelLaw::HanselSpittelLaw(const double A,
+                                     const double m1,
+                                     const double m3,
+                                     const double m8,
+                                     const double m9,
+                                     const double reference_temperature)
+    : A(A)
+    , m1(m1)
+    , m3(m3)
+    , m8(m8)
+    , m9(m9)
+    , reference_temperature(reference_temperature)
+  {}
+
+  double
+  HanselSpittelLaw::rate_exponent(const double T) const
+  {
+    return std::clamp(m3 + m8 * (T - zero_celsius), 1e-3, 1.);
+  }
+
+  double
+  HanselSpittelLaw::viscosity_at(const double rate, const double T) const
+  {
+    const double celsius = T - zero_celsius;
+    const double factor  = A * std::exp(m1 * celsius) * (m9 != 0 ? std::pow(std::max(celsius, 1.), m9) : 1.);
+    return factor / 3. * std::pow(rate, rate_exponent(T) - 1.);
+  }
+
+  double
+  HanselSpittelLaw::derivative_at(const double rate, const double T) const
+  {
+    return (rate_exponent(T) - 1.) * viscosity_at(rate, T) / rate;
+  }
+
+  double
+  HanselSpittelLaw::viscosity(const double rate) const
+  {
+    return viscosity_at(rate, reference_temperature);
+  }
+
+  double
+  HanselSpittelLaw::derivative(const double rate) const
+  {
+    return derivative_at(rate, reference_temperature);
+  }
+
+
+
   void
   Material::declare_parameters(ParameterHandler &prm)
   {
@@ -95,12 +146,14 @@ namespace dieflow
     {
       prm.declare_entry("Law",
                         "Newtonian",
-                        Selection("Newtonian|Norton-Hoff|Sellars-Tegart"),
+                        Selection("Newtonian|Norton-Hoff|Sellars-Tegart|Hansel-Spittel"),
                         "Viscosity law eta(epsdot_eq) with epsdot_eq = sqrt(2/3 D:D) "
                         "and sigma_eq = 3 eta epsdot_eq. Newtonian: eta = Viscosity. "
                         "Norton-Hoff: sigma_eq = K epsdot_eq^m. Sellars-Tegart: "
                         "sigma_eq = asinh((Z/A)^(1/n))/alpha with Z = epsdot_eq "
-                        "exp(Q/(R T)).");
+                        "exp(Q/(R T)). Hansel-Spittel: sigma_eq = A e^(m1 T) T^m9 "
+                        "eps^m2 e^(m4/eps) (1 + eps)^(m5 T) e^(m7 eps) epsdot_eq^(m3 + m8 T), "
+                        "T in degrees Celsius (the Hansel-Spittel entries).");
       prm.declare_entry("Viscosity",
                         "0.278",
                         Double(),
@@ -136,6 +189,26 @@ namespace dieflow
                         Double(),
                         "Natural logarithm of the Sellars-Tegart constant A (A in "
                         "1/s); AA6063: A = exp(22.5).");
+      struct Constant
+      {
+        const char *name, *value, *doc;
+      };
+      const std::vector<Constant> hansel_spittel = {
+        {"A", "1", "A (MPa) of Hansel-Spittel's law"},
+        {"m1", "0", "m1 (1/C): the temperature's e^(m1 T)"},
+        {"m2", "0", "m2: the strain's eps^m2 (eps taken no smaller than Hardening strain eps0)"},
+        {"m3", "0.1", "m3: the rate's exponent m3 + m8 T, which must lie in (0, 1] at Temperature"},
+        {"m4", "0", "m4: the strain's e^(m4/eps)"},
+        {"m5", "0", "m5 (1/C): the strain's and temperature's (1 + eps)^(m5 T)"},
+        {"m7", "0", "m7: the strain's e^(m7 eps)"},
+        {"m8", "0", "m8 (1/C): the rate's exponent m3 + m8 T"},
+        {"m9", "0", "m9: the temperature's T^m9 (T taken no lower than 1 C)"}};
+      for (const auto &[name, value, doc] : hansel_spittel)
+        prm.declare_entry(std::string("Hansel-Spittel ") + name,
+                          value,
+                          Double(),
+                          std::string(doc) +
+                            " (Law = Hansel-Spittel; T in degrees Celsius, as the published constants).");
       prm.declare_entry("Temperature",
                         "723.15",
                         Double(),
@@ -197,9 +270,33 @@ namespace dieflow
     law_name = prm.get("Law");
     const auto positive = [&](const std::string &entry) { return get_positive(prm, "Material/", entry); };
 
-    if (law_name == "Newtonian")
+    kind = law_name == "Newtonian"      ? Kind::newtonian :
+           law_name == "Norton-Hoff"    ? Kind::norton_hoff :
+           law_name == "Sellars-Tegart" ? Kind::sellars_tegart :
+                                          Kind::hansel_spittel;
+    if (kind == Kind::newtonian)
       law = std::make_shared<NewtonianLaw>(positive("Viscosity"));
-    else if (law_name == "Norton-Hoff")
+    else if (kind == Kind::hansel_spittel)
+      {
+        const auto finite = [&](const std::string &name) {
+          const double value = prm.get_double("Hansel-Spittel " + name);
+          require(std::isfinite(value), "Material/Hansel-Spittel " + name, "must be a finite number");
+          return value;
+        };
+        const double T_0 = positive("Temperature");
+        const double m3 = finite("m3"), m8 = finite("m8");
+        const double m  = m3 + m8 * (T_0 - zero_celsius);
+        require(m > 0 && m <= 1,
+                "Material/Hansel-Spittel m3",
+                "with m8 gives the rate exponent m3 + m8 T = " + deck_number(m) + " at Material/Temperature (" +
+                  deck_number(T_0 - zero_celsius) + " C): it must lie in (0, 1]");
+        law   = std::make_shared<HanselSpittelLaw>(positive("Hansel-Spittel A"), finite("m1"), m3, m8, finite("m9"), T_0);
+        hs_m2 = finite("m2");
+        hs_m4 = finite("m4");
+        hs_m5 = finite("m5");
+        hs_m7 = finite("m7");
+      }
+    else if (kind == Kind::norton_hoff)
       {
         const double m = prm.get_double("Rate sensitivity m");
         require(std::isfinite(m) && m > 0 && m <= 1,
@@ -223,6 +320,9 @@ namespace dieflow
     require(std::isfinite(activation_energy) && activation_energy >= 0,
             "Material/Activation energy Q",
             "must be zero or positive, got " + prm.get("Activation energy Q"));
+    // Hansel-Spittel's temperature is its own (e^(m1 T) T^m9, m8, m5), not Zener-Hollomon's.
+    if (kind == Kind::hansel_spittel)
+      activation_energy = 0;
     minimum_strain_rate = positive("Minimum strain rate");
     minimum_viscosity = prm.get_double("Minimum viscosity");
     maximum_viscosity = prm.get_double("Maximum viscosity");
@@ -237,7 +337,10 @@ namespace dieflow
     require(std::isfinite(hardening_exponent) && hardening_exponent >= 0 && hardening_exponent <= 1,
             "Material/Hardening exponent n",
             "must be in [0, 1], got " + prm.get("Hardening exponent n"));
-    if (hardening_exponent > 0)
+    require(kind != Kind::hansel_spittel || hardening_exponent == 0,
+            "Material/Hardening exponent n",
+            "must be 0 with Law = Hansel-Spittel (its strain terms m2, m4, m5, m7 are its hardening)");
+    if (hardens())
       hardening_strain = positive("Hardening strain eps0");
     reference_strain_rate = prm.get_double("Reference strain rate");
     require(std::isfinite(reference_strain_rate) && reference_strain_rate >= 0,
@@ -274,14 +377,36 @@ namespace dieflow
 
 
 
+  double
+  Material::hardening(const double strain, const double T) const
+  {
+    if (!hardens())
+      return 1.;
+    if (kind != Kind::hansel_spittel)
+      return std::pow(hardening_strain + strain, hardening_exponent);
+    const double eps = std::max(strain, hardening_strain);
+    return std::pow(eps, hs_m2) * std::exp(hs_m4 / eps + hs_m7 * eps) *
+           std::pow(1. + eps, hs_m5 * (T - zero_celsius));
+  }
+
+
+
   ViscosityValue
   Material::evaluate(const double equivalent_rate, const double T) const
   {
     ViscosityValue value;
-    value.rate     = std::sqrt(equivalent_rate * equivalent_rate + minimum_strain_rate * minimum_strain_rate);
-    const double f = rate_factor(T);
-    value.eta      = f * law->viscosity(f * value.rate);
-    value.d_eta    = f * f * law->derivative(f * value.rate);
+    value.rate = std::sqrt(equivalent_rate * equivalent_rate + minimum_strain_rate * minimum_strain_rate);
+    if (law->has_own_temperature())
+      {
+        value.eta   = law->viscosity_at(value.rate, T);
+        value.d_eta = law->derivative_at(value.rate, T);
+      }
+    else
+      {
+        const double f = rate_factor(T);
+        value.eta      = f * law->viscosity(f * value.rate);
+        value.d_eta    = f * f * law->derivative(f * value.rate);
+      }
     if (value.eta < minimum_viscosity)
       {
         value.eta   = minimum_viscosity;

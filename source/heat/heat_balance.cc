@@ -22,7 +22,7 @@ namespace dieflow
                                  const double                   dt)
   {
     const bool                               transient = dt > 0;
-    const double                             rho_c = parameters.heat_capacity;
+    const ThermalProperty &                  rho_c = parameters.heat_capacity;
     const dealii::QGauss<dim>                quadrature(fe.degree + 1);
     const dealii::QGauss<dim - 1>            face_quadrature(fe.degree + 1);
     const dealii::FEValuesExtractors::Vector velocities(0);
@@ -59,25 +59,26 @@ namespace dieflow
         flow_values[velocities].get_function_values(velocity, v);
         // Steady: carried by the flow through the fixed mesh; in time: stored
         // in the metal the mesh follows, at the assembly's quadrature.
+        fe_values.get_function_values(temperature, T);
         if (transient)
-          {
-            fe_values.get_function_values(temperature, T);
-            fe_values.get_function_values(previous, T_previous);
-          }
+          fe_values.get_function_values(previous, T_previous);
         for (unsigned int q = 0; q < quadrature.size(); ++q)
           {
             const double dx = fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
+            // The heat content's change, int_{T_n}^{T_n+1} rho c dT, and rho c(T) v.grad T = v.grad H(T).
             if (transient)
-              last.stored += rho_c * (T[q] - T_previous[q]) / dt * dx;
+              last.stored += (rho_c.is_constant() ? rho_c.value(T[q]) * (T[q] - T_previous[q]) :
+                                                    rho_c.integral(T[q]) - rho_c.integral(T_previous[q])) /
+                             dt * dx;
             else
-              last.carried += rho_c * (v[q] * grad_T[q]) * dx;
+              last.carried += rho_c.value(T[q]) * (v[q] * grad_T[q]) * dx;
           }
         for (const unsigned int f : cell->face_indices())
           {
             const auto face = cell->face(f);
             if (!face->at_boundary())
               continue;
-            const auto h_face = parameters.transfer_coefficient.find(face->boundary_id());
+            const bool exchanges = parameters.exchanges(face->boundary_id());
             face_values.reinit(cell, f);
             flow_face_values.reinit(flow_cell, f);
             face_values.get_function_values(temperature, T_face);
@@ -86,10 +87,9 @@ namespace dieflow
             for (unsigned int q = 0; q < face_quadrature.size(); ++q)
               {
                 const double ds = face_values.JxW(q) * coordinates.weight(face_values.quadrature_point(q));
-                if (h_face != parameters.transfer_coefficient.end())
+                if (exchanges)
                   {
-                    const double out =
-                      h_face->second * (T_face[q] - parameters.ambient_temperature.at(face->boundary_id())) * ds;
+                    const double out = parameters.wall_flux(face->boundary_id(), T_face[q]) * ds;
                     last.transferred += out;
                     last.transferred_by_id[face->boundary_id()] += out;
                   }
@@ -139,8 +139,8 @@ namespace dieflow
     const auto [lowest, highest] = std::minmax_element(temperature.begin(), temperature.end());
     last.T_min                   = *lowest;
     last.T_max                   = *highest;
-    const auto [content, volume] = integrals();
-    last.T_mean                  = content / (parameters.heat_capacity * volume);
+    const Integrals sums = integrals();
+    last.T_mean          = sums.temperature / sums.volume;
     last.transient               = parameters.model == HeatParameters::Model::transient;
     if (exact)
       std::tie(last.T_l2_error, last.T_nodal_error) = errors_against(coordinates, dof_handler, temperature, *exact);
@@ -167,20 +167,19 @@ namespace dieflow
   double
   HeatEquation<dim>::wall_flux(const dealii::types::boundary_id id, const double T) const
   {
-    const auto h = parameters.transfer_coefficient.find(id);
-    return h == parameters.transfer_coefficient.end() ? 0. : h->second * (T - parameters.ambient_temperature.at(id));
+    return parameters.wall_flux(id, T);
   }
 
 
 
   template <int dim>
-  std::pair<double, double>
+  typename HeatEquation<dim>::Integrals
   HeatEquation<dim>::integrals() const
   {
     const dealii::QGauss<dim> quadrature(fe.degree + 1);
     dealii::FEValues<dim>     fe_values(fe, quadrature, dealii::update_values | dealii::update_quadrature_points | dealii::update_JxW_values);
     std::vector<double>       T(quadrature.size());
-    double                    content = 0, volume = 0;
+    Integrals                 sums;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         fe_values.reinit(cell);
@@ -188,11 +187,12 @@ namespace dieflow
         for (unsigned int q = 0; q < quadrature.size(); ++q)
           {
             const double dx = fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q));
-            content += parameters.heat_capacity * T[q] * dx;
-            volume += dx;
+            sums.content += parameters.heat_capacity.integral(T[q]) * dx;
+            sums.temperature += T[q] * dx;
+            sums.volume += dx;
           }
       }
-    return {content, volume};
+    return sums;
   }
 
 
@@ -213,8 +213,8 @@ namespace dieflow
   HeatEquation<2>::wall_flux(const dealii::types::boundary_id, const double) const;
   template double
   HeatEquation<3>::wall_flux(const dealii::types::boundary_id, const double) const;
-  template std::pair<double, double>
+  template HeatEquation<2>::Integrals
   HeatEquation<2>::integrals() const;
-  template std::pair<double, double>
+  template HeatEquation<3>::Integrals
   HeatEquation<3>::integrals() const;
 } // namespace dieflow

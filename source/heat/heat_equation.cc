@@ -153,12 +153,18 @@ namespace dieflow
   double
   HeatEquation<dim>::solve(const dealii::DoFHandler<dim> &                           flow_dofs,
                            const dealii::Vector<double> &                            velocity,
-                           const std::vector<std::pair<dealii::Point<dim>, double>> &friction,
+                           const std::vector<FrictionWork<dim>> &                    friction,
                            const double                                              dt,
                            const dealii::Vector<double> *                            cell_hardening,
                            const std::vector<double> *                               point_hardening)
   {
-    const double rho_c = parameters.heat_capacity, k = parameters.conductivity, beta = parameters.taylor_quinney;
+    const double beta = parameters.taylor_quinney;
+    // Properties tabulated in T make the equation nonlinear: solved again
+    // with rho c and k at the last solution (Picard) until it settles; the
+    // sources stay those of the flow at the temperature it read.
+    const bool tabulated = !parameters.heat_capacity.is_constant() || !parameters.conductivity.is_constant();
+    // So does radiation (linearised at the last T: Newton's passes).
+    const bool nonlinear = tabulated || !parameters.emissivity.empty();
     // In time the mesh moves with the metal: no advection, nothing to stabilise.
     const bool   transient = dt > 0;
     const bool   supg  = parameters.stabilisation == HeatParameters::Stabilisation::supg && !transient;
@@ -184,11 +190,17 @@ namespace dieflow
     dealii::FullMatrix<double>               cell_matrix(n, n);
     dealii::Vector<double>                   cell_rhs(n);
     std::vector<dealii::types::global_dof_index> dofs(n);
-    std::vector<double>                          T_old(n_q);
+    std::vector<double>                          T_old(n_q), T_now(n_q), T_face(face_quadrature.size());
+    std::vector<dealii::Tensor<1, dim>>          grad_T_now(n_q);
     std::vector<dealii::Tensor<1, dim>>          v(n_q);
     std::vector<StrainRate<dim>>                 D(n_q);
     std::vector<double>                          advection(n), strong(n);
 
+    // T at the start: T_n in time, the coupling's last T when steady.
+    const dealii::Vector<double> previous      = temperature;
+    double                       friction_heat = 0;
+    for (unsigned int pass = 1;; ++pass)
+    {
     matrix = 0;
     rhs    = 0;
     last   = HeatRecord();
@@ -198,7 +210,10 @@ namespace dieflow
       {
         fe_values.reinit(cell);
         flow_values.reinit(flow_cell);
-        fe_values.get_function_values(temperature, T_old);
+        fe_values.get_function_values(previous, T_old);
+        fe_values.get_function_values(temperature, T_now);
+        if (supg && tabulated)
+          fe_values.get_function_gradients(temperature, grad_T_now);
         flow_values[velocities].get_function_values(velocity, v);
         coordinates.strain_rates(flow_values, velocity, D);
         cell_matrix = 0;
@@ -213,14 +228,24 @@ namespace dieflow
             const double factor =
               cell_factor * (point_hardening != nullptr ? (*point_hardening)[cell->active_cell_index() * n_q + q] : 1.);
             const double work = 2. * factor * material.evaluate(rate, T_old[q]).eta * (D[q] * D[q]);
+            const double rho_c = parameters.heat_capacity.value(T_now[q]), k = parameters.conductivity.value(T_now[q]);
+            const double k_slope = supg ? parameters.conductivity.slope(T_now[q]) : 0.;
             const double source = beta * work;
             last.plastic_work += work * dx;
             const double speed  = transient ? 0. : v[q].norm();
             const double Pe     = speed * h * rho_c / (2. * k);
             last.peclet         = std::max(last.peclet, Pe);
             const double tau    = (supg && speed > 0) ? h / (2. * speed) * upwind_function(Pe) : 0.;
-            // Backward Euler: rho c (T - T_old)/dt, the mass term in place of the advection.
+            // Backward Euler: rho c (T - T_old)/dt, the mass term in place of the advection;
+            // tabulated, (H(T) - H(T_old))/dt with H linearised at the last T, T*:
+            // H(T) = H(T*) + rho c(T*) (T - T*), exact once T = T* (the heat content conserved).
             const double mass   = transient ? rho_c / dt : 0.;
+            const double mass_load =
+              !transient ? 0. :
+              !tabulated ? mass * T_old[q] :
+                           (rho_c * T_now[q] - parameters.heat_capacity.integral(T_now[q]) +
+                            parameters.heat_capacity.integral(T_old[q])) /
+                             dt;
             for (unsigned int j = 0; j < n; ++j)
               {
                 advection[j] = transient ? 0. : v[q] * fe_values.shape_grad(j, q);
@@ -230,7 +255,8 @@ namespace dieflow
                   laplacian = dealii::trace(fe_values.shape_hessian(j, q));
                 if (coordinates.axisymmetric() && supg)
                   laplacian += fe_values.shape_grad(j, q)[1] / x[1];
-                strong[j] = rho_c * advection[j] - k * laplacian;
+                // div(k(T*) grad T) = k Laplacian T + k'(T*) grad T*.grad T (k tabulated).
+                strong[j] = rho_c * advection[j] - k * laplacian - k_slope * (grad_T_now[q] * fe_values.shape_grad(j, q));
               }
             for (unsigned int i = 0; i < n; ++i)
               {
@@ -241,27 +267,40 @@ namespace dieflow
                     ((rho_c * advection[j] + mass * fe_values.shape_value(j, q)) * phi_i +
                      k * (fe_values.shape_grad(i, q) * fe_values.shape_grad(j, q)) + tau * advection[i] * strong[j]) *
                     dx;
-                cell_rhs(i) += (source * test + mass * T_old[q] * phi_i) * dx;
+                cell_rhs(i) += (source * test + mass_load * phi_i) * dx;
               }
           }
         for (const auto &face : cell->face_iterators())
           {
             if (!face->at_boundary())
               continue;
-            const auto h_face = parameters.transfer_coefficient.find(face->boundary_id());
-            if (h_face == parameters.transfer_coefficient.end())
+            const BoundaryId id = face->boundary_id();
+            if (!parameters.exchanges(id))
               continue;
-            const double T_ambient = parameters.ambient_temperature.at(face->boundary_id());
+            const auto   h_face    = parameters.transfer_coefficient.find(id);
+            const auto   e_face    = parameters.emissivity.find(id);
+            const double h         = h_face != parameters.transfer_coefficient.end() ? h_face->second : 0.;
+            const double e_sigma   = e_face != parameters.emissivity.end() ?
+                                       e_face->second * HeatParameters::stefan_boltzmann :
+                                       0.;
+            const double T_ambient = parameters.ambient_temperature.at(id);
             face_values.reinit(cell, face);
+            face_values.get_function_values(temperature, T_face);
             for (unsigned int q = 0; q < face_values.n_quadrature_points; ++q)
               {
                 const double ds = face_values.JxW(q) * coordinates.weight(face_values.quadrature_point(q));
+                // h (T - T_a) + e sigma (T^4 - T_a^4), the radiation linearised at the last T, T* (Newton):
+                // e sigma (T*^4 - T_a^4) + 4 e sigma T*^3 (T - T*), exact once T = T*.
+                const double T_star = T_face[q], T3 = T_star * T_star * T_star;
+                const double coefficient = h + 4. * e_sigma * T3;
+                const double load =
+                  h * T_ambient + e_sigma * (3. * T3 * T_star + T_ambient * T_ambient * T_ambient * T_ambient);
                 for (unsigned int i = 0; i < n; ++i)
                   {
                     for (unsigned int j = 0; j < n; ++j)
                       cell_matrix(i, j) +=
-                        h_face->second * face_values.shape_value(i, q) * face_values.shape_value(j, q) * ds;
-                    cell_rhs(i) += h_face->second * T_ambient * face_values.shape_value(i, q) * ds;
+                        coefficient * face_values.shape_value(i, q) * face_values.shape_value(j, q) * ds;
+                    cell_rhs(i) += load * face_values.shape_value(i, q) * ds;
                   }
               }
           }
@@ -290,8 +329,8 @@ namespace dieflow
 
     // The metal's share of each contact node's friction work, at the
     // temperature's node there (the same point: a boundary support point).
-    double       friction_heat = 0;
-    unsigned int matched       = 0;
+    friction_heat        = 0;
+    unsigned int matched = 0;
     if (!friction.empty())
       {
         std::map<dealii::types::global_dof_index, dealii::Point<dim>> support;
@@ -301,9 +340,8 @@ namespace dieflow
         for (const auto &[dof, point] : support)
           boundary.emplace_back(point, dof);
         std::sort(boundary.begin(), boundary.end(), [](const auto &a, const auto &b) { return a.first[0] < b.first[0]; });
-        for (const auto &[position, work] : friction)
+        for (const auto &[position, work, die] : friction)
           {
-            friction_heat += parameters.friction_share * work;
             last.friction_work += work;
             auto it = std::lower_bound(boundary.begin(), boundary.end(), position[0] - tolerance,
                                        [](const auto &a, const double x) { return a.first[0] < x; });
@@ -311,9 +349,11 @@ namespace dieflow
               if (it->first.distance(position) <= tolerance)
                 {
                   // Through the constraints: a node on a prescribed part takes none.
+                  // The metal's share at its T there (by effusivities: the last T's).
                   dealii::Vector<double>                       value(1);
                   std::vector<dealii::types::global_dof_index> index(1, it->second);
-                  value[0] = parameters.friction_share * work;
+                  value[0] = parameters.friction_share_at(die, temperature[it->second]) * work;
+                  friction_heat += value[0];
                   constraints.distribute_local_to_global(value, index, rhs);
                   if (const double weight = prescribed_weight(it->second); weight != 0)
                     prescribed_rows.push_back({index, {0.}, weight * value[0]});
@@ -323,16 +363,29 @@ namespace dieflow
           }
       }
 
-    dealii::Vector<double> previous = temperature;
+    AssertThrow(matched == friction.size(),
+                dealii::ExcMessage("a contact node without a temperature node: " + std::to_string(matched) + " of " +
+                                   std::to_string(friction.size()) + " found"));
+    const dealii::Vector<double> last_pass = temperature;
     dealii::SparseDirectUMFPACK solver;
     solver.initialize(matrix);
     solver.vmult(temperature, rhs);
     constraints.distribute(temperature);
+    if (!nonlinear)
+      break;
+    dealii::Vector<double> pass_change = last_pass;
+    pass_change -= temperature;
+    last.property_passes = pass;
+    // Settled to the direct solve's round-off, relative to T.
+    if (pass_change.linfty_norm() <= 1e-11 * temperature.linfty_norm())
+      break;
+    AssertThrow(pass < 100,
+                dealii::ExcMessage("the temperature with Heat/Specific heat table, Conductivity table or Emissivities "
+                                   "did not settle in 100 solves (the last changed T by " +
+                                   deck_number(pass_change.linfty_norm()) + " K)"));
+    }
     dealii::Vector<double> change = previous;
     change -= temperature;
-    AssertThrow(matched == friction.size(),
-                dealii::ExcMessage("a contact node without a temperature node: " + std::to_string(matched) + " of " +
-                                   std::to_string(friction.size()) + " found"));
     last.last_change = change.linfty_norm();
     make_record(flow_dofs, velocity, friction_heat, previous, dt);
     return last.last_change;

@@ -1,6 +1,11 @@
 // The deck's Heat subsection: its entries, their units and their checks.
 #include <dieflow/heat/heat_parameters.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
 #include <deal.II/base/utilities.h>
 
 #include <cmath>
@@ -37,6 +42,18 @@ namespace dieflow
                         "209",
                         Double(),
                         "Thermal conductivity k of the metal (W/(m K)); AA6063: 209.");
+      prm.declare_entry("Specific heat table",
+                        "",
+                        Anything(),
+                        "c tabulated in T: 'T: c, T: c, ...' (K: J/(kg K), T ascending), "
+                        "linear between the points and constant beyond them; the heat "
+                        "content is int rho c dT. Empty: the constant Specific heat.");
+      prm.declare_entry("Conductivity table",
+                        "",
+                        Anything(),
+                        "k tabulated in T: 'T: k, T: k, ...' (K: W/(m K), T ascending), "
+                        "linear between the points and constant beyond them. Empty: the "
+                        "constant Conductivity.");
       prm.declare_entry("Taylor-Quinney coefficient",
                         "0.9",
                         Double(),
@@ -46,6 +63,14 @@ namespace dieflow
                         Double(),
                         "The share in [0, 1] of the friction work at a die that heats the "
                         "metal (the rest goes into the die).");
+      prm.declare_entry("Die effusivities",
+                        "",
+                        Anything(),
+                        "'id: e, ...' (W s^1/2/(m^2 K)): for these dies the metal takes "
+                        "e_m/(e_m + e) of the friction work instead of the Friction heat "
+                        "share, e_m = sqrt(k rho c) the metal's at its temperature there "
+                        "(the split of two half-spaces in sliding contact: Blok, "
+                        "Jaeger). Hot-work tool steel (H13): about 9,000; AA6063: 22,000.");
       prm.declare_entry("Prescribed temperature ids",
                         "1",
                         Anything(),
@@ -71,7 +96,14 @@ namespace dieflow
                         "",
                         Anything(),
                         "'id: T, ...' (K): the die's (or air's) temperature T_ambient of "
-                        "each id of Heat transfer coefficients.");
+                        "each id of Heat transfer coefficients and Emissivities.");
+      prm.declare_entry("Emissivities",
+                        "",
+                        Anything(),
+                        "'id: e, ...' (e in [0, 1]): these parts also radiate "
+                        "e sigma (T^4 - T_ambient^4), sigma = 5.670374e-8 W/(m^2 K^4) "
+                        "(free surfaces in hot working: oxidised steel 0.8, aluminium "
+                        "0.1-0.3).");
       prm.declare_entry("Coupling iterations",
                         "10",
                         Integer(1, 100),
@@ -96,6 +128,115 @@ namespace dieflow
 
 
   void
+  ThermalProperty::set_constant(const double value)
+  {
+    points = {{0., value}};
+  }
+
+
+
+  void
+  ThermalProperty::parse_table(const std::string &entry, const std::string &text, const double scale)
+  {
+    points.clear();
+    std::stringstream items(text);
+    std::string       item;
+    while (std::getline(items, item, ','))
+      {
+        const auto colon = item.find(':');
+        require(colon != std::string::npos, entry, "'" + item + "' is not 'T: value'");
+        const auto number = [&](const std::string &part) {
+          char *       end   = nullptr;
+          const double value = std::strtod(part.c_str(), &end);
+          while (end != nullptr && (*end == ' ' || *end == '\t'))
+            ++end;
+          require(end != part.c_str() && *end == '\0' && std::isfinite(value), entry, "'" + part + "' is not a number");
+          return value;
+        };
+        const double T = number(item.substr(0, colon)), value = number(item.substr(colon + 1));
+        require(T > 0, entry, "T = " + deck_number(T) + " is not above absolute zero (K)");
+        require(value > 0, entry, "the value at T = " + deck_number(T) + " must be positive");
+        require(points.empty() || T > points.back().first, entry, "the temperatures must ascend");
+        points.emplace_back(T, scale * value);
+      }
+    require(!points.empty(), entry, "has no points");
+  }
+
+
+
+  double
+  ThermalProperty::value(const double T) const
+  {
+    if (T <= points.front().first)
+      return points.front().second;
+    if (T >= points.back().first)
+      return points.back().second;
+    const auto upper = std::upper_bound(points.begin(), points.end(), T, [](const double t, const auto &p) { return t < p.first; });
+    const auto lower = upper - 1;
+    return lower->second + (upper->second - lower->second) * (T - lower->first) / (upper->first - lower->first);
+  }
+
+
+
+  double
+  ThermalProperty::slope(const double T) const
+  {
+    if (T <= points.front().first || T >= points.back().first)
+      return 0;
+    const auto upper = std::upper_bound(points.begin(), points.end(), T, [](const double t, const auto &p) { return t < p.first; });
+    const auto lower = upper - 1;
+    return (upper->second - lower->second) / (upper->first - lower->first);
+  }
+
+
+
+  double
+  ThermalProperty::integral(const double T) const
+  {
+    if (is_constant())
+      return points.front().second * T;
+    // Constant below the first point (from 0 K) and above the last; the trapezoid between points is exact.
+    double sum = points.front().second * std::min(T, points.front().first);
+    for (std::size_t i = 1; i < points.size() && T > points[i - 1].first; ++i)
+      {
+        const double a = points[i - 1].first, b = std::min(T, points[i].first);
+        sum += 0.5 * (points[i - 1].second + value(b)) * (b - a);
+      }
+    if (T > points.back().first && points.size() > 1)
+      sum += points.back().second * (T - points.back().first);
+    return sum;
+  }
+
+
+
+  double
+  HeatParameters::wall_flux(const BoundaryId id, const double T) const
+  {
+    if (!exchanges(id))
+      return 0;
+    const double T_a = ambient_temperature.at(id);
+    const auto   h   = transfer_coefficient.find(id);
+    const auto   e   = emissivity.find(id);
+    return (h != transfer_coefficient.end() ? h->second * (T - T_a) : 0.) +
+           (e != emissivity.end() ? e->second * stefan_boltzmann * (T * T * T * T - T_a * T_a * T_a * T_a) : 0.);
+  }
+
+
+
+  double
+  HeatParameters::friction_share_at(const BoundaryId die, const double T) const
+  {
+    const auto e = die_effusivity.find(die);
+    if (e == die_effusivity.end())
+      return friction_share;
+    // k rho c in N^2/(mm^2 s K^2): its root in N/(mm s^1/2 K), as the die's.
+    const double metal = std::sqrt(conductivity.value(T) * heat_capacity.value(T));
+    return metal / (metal + e->second);
+  }
+
+
+
+  void
   HeatParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Heat");
@@ -109,10 +250,23 @@ namespace dieflow
       return x;
     };
     // SI to mm, s, N, K (heat_parameters.h).
-    heat_capacity       = 1e-6 * positive("Density") * positive("Specific heat");
-    conductivity        = positive("Conductivity");
+    const double density = positive("Density");
+    if (prm.get("Specific heat table").find_first_not_of(" \t") == std::string::npos)
+      heat_capacity.set_constant(1e-6 * density * positive("Specific heat"));
+    else
+      heat_capacity.parse_table("Heat/Specific heat table", prm.get("Specific heat table"), 1e-6 * density);
+    if (prm.get("Conductivity table").find_first_not_of(" \t") == std::string::npos)
+      conductivity.set_constant(positive("Conductivity"));
+    else
+      conductivity.parse_table("Heat/Conductivity table", prm.get("Conductivity table"), 1.);
     taylor_quinney      = share("Taylor-Quinney coefficient");
     friction_share      = share("Friction heat share");
+    die_effusivity.clear();
+    for (const auto &[id, e] : parse_id_value_map("Heat/Die effusivities", prm.get("Die effusivities")))
+      {
+        require(std::isfinite(e) && e > 0, "Heat/Die effusivities", "e of id " + std::to_string(id) + " must be positive");
+        die_effusivity[id] = 1e-3 * e;
+      }
     prescribed_ids      = parse_id_list("Heat/Prescribed temperature ids", prm.get("Prescribed temperature ids"));
     prescribed_temperature = prm.get("Prescribed temperature");
     exact_temperature      = prm.get("Exact temperature");
@@ -128,20 +282,35 @@ namespace dieflow
                 "id " + std::to_string(id) + " is also under Prescribed temperature ids");
         transfer_coefficient[id] = 1e-3 * h;
       }
+    emissivity.clear();
+    for (const auto &[id, e] : parse_id_value_map("Heat/Emissivities", prm.get("Emissivities")))
+      {
+        require(std::isfinite(e) && e >= 0 && e <= 1,
+                "Heat/Emissivities",
+                "e of id " + std::to_string(id) + " must lie in [0, 1]");
+        require(!prescribed_ids.count(id),
+                "Heat/Emissivities",
+                "id " + std::to_string(id) + " is also under Prescribed temperature ids");
+        emissivity[id] = e;
+      }
     for (const auto &[id, T] : parse_id_value_map("Heat/Ambient temperatures", prm.get("Ambient temperatures")))
       {
         require(std::isfinite(T) && T > 0,
                 "Heat/Ambient temperatures",
                 "T of id " + std::to_string(id) + " must be above absolute zero (K)");
-        require(transfer_coefficient.count(id),
+        require(transfer_coefficient.count(id) || emissivity.count(id),
                 "Heat/Ambient temperatures",
-                "id " + std::to_string(id) + " has no Heat transfer coefficient");
+                "id " + std::to_string(id) + " has no Heat transfer coefficient or Emissivity");
         ambient_temperature[id] = T;
       }
     for (const auto &[id, h] : transfer_coefficient)
       require(ambient_temperature.count(id),
               "Heat/Ambient temperatures",
               "id " + std::to_string(id) + " of Heat transfer coefficients needs one");
+    for (const auto &[id, e] : emissivity)
+      require(ambient_temperature.count(id),
+              "Heat/Ambient temperatures",
+              "id " + std::to_string(id) + " of Emissivities needs one");
     coupling_iterations = prm.get_integer("Coupling iterations");
     coupling_tolerance  = prm.get_double("Coupling tolerance");
     require(std::isfinite(coupling_tolerance) && coupling_tolerance > 0,

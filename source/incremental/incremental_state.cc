@@ -74,9 +74,23 @@ namespace dieflow
   {
     if (!material.hardens())
       return;
-    cell_hardening.reinit(equivalent_strain.size());
-    for (unsigned int c = 0; c < cell_hardening.size(); ++c)
-      cell_hardening[c] = material.hardening(equivalent_strain[c]);
+    const std::size_t n_cells = equivalent_strain.size();
+    cell_hardening.reinit(n_cells);
+    // A new mesh's temperatures are those of its points once the heat is on it.
+    const std::size_t n_points = (flow_temperatures != nullptr && n_cells > 0 && flow_temperatures->size() % n_cells == 0) ?
+                                   flow_temperatures->size() / n_cells :
+                                   0;
+    for (unsigned int c = 0; c < n_cells; ++c)
+      {
+        double T = material.temperature;
+        if (n_points > 0)
+          {
+            T = 0;
+            for (std::size_t q = 0; q < n_points; ++q)
+              T += (*flow_temperatures)[c * n_points + q] / n_points;
+          }
+        cell_hardening[c] = material.hardening(equivalent_strain[c], T);
+      }
   }
 
 

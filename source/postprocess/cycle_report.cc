@@ -136,21 +136,19 @@ namespace dieflow
     if (view.equivalent_strain != nullptr)
       cell_fields["equivalent_strain"] = *view.equivalent_strain;
     // The hardening factor per cell for the stresses and fields written: a
-    // run in time's own; a steady one's at the mean of the cell's vertex
-    // strains (an output, not the solve's quadrature, as T's).
+    // run in time's own; a steady one's the mean of the factors the flow
+    // read at the cell's quadrature points.
     Vector<double> hardening;
     if (view.terms.hardening != nullptr)
       hardening = *view.terms.hardening;
-    else if (view.strain != nullptr && view.material.hardens())
+    else if (view.terms.point_hardening != nullptr && triangulation.n_active_cells() > 0)
       {
+        const std::vector<double> &points   = *view.terms.point_hardening;
+        const std::size_t          n_points = points.size() / triangulation.n_active_cells();
         hardening.reinit(triangulation.n_active_cells());
-        for (const auto &cell : triangulation.active_cell_iterators())
-          {
-            double eps = 0;
-            for (const unsigned int v : cell->vertex_indices())
-              eps += view.strain->vertex_strain[cell->vertex_index(v)] / cell->n_vertices();
-            hardening[cell->active_cell_index()] = view.material.hardening(std::max(eps, 0.));
-          }
+        for (std::size_t c = 0; c < hardening.size() && n_points > 0; ++c)
+          for (std::size_t q = 0; q < n_points; ++q)
+            hardening[c] += points[c * n_points + q] / n_points;
       }
     if (hardening.size() > 0)
       cell_fields["hardening_factor"] = hardening;

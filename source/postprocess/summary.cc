@@ -315,6 +315,7 @@ namespace dieflow
         // The heat balance in N mm/s (mW; per mm of depth in plane strain).
         if (const auto &h = s.heat)
           cycle["heat"] = {{"solves", h->solves}, {"settled", h->settled}, {"last_change", number(h->last_change)},
+                          {"property_passes", h->property_passes},
                            {"plastic_work", number(h->plastic_work)}, {"plastic_heat", number(h->plastic_heat)},
                            {"friction_work", number(h->friction_work)}, {"friction_heat", number(h->friction_heat)},
                            {"carried", number(h->carried)}, {"stored", number(h->stored)},

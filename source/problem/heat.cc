@@ -12,14 +12,14 @@ namespace dieflow
     /// metal's friction force against its slip on the die): the heat
     /// sources at the dies.
     template <int dim>
-    std::vector<std::pair<dealii::Point<dim>, double>>
+    std::vector<FrictionWork<dim>>
     friction_work(const ContactSet<dim> &contact, const Vector<double> &velocity)
     {
-      std::vector<std::pair<dealii::Point<dim>, double>> friction;
+      std::vector<FrictionWork<dim>> friction;
       if (!contact.empty())
         for (const auto &node : contact.results(velocity))
           if (node.status != ContactStatus::separated)
-            friction.emplace_back(node.position, std::max(-(node.friction_force * node.slip_velocity), 0.));
+            friction.push_back({node.position, std::max(-(node.friction_force * node.slip_velocity), 0.), node.id});
       return friction;
     }
   } // namespace

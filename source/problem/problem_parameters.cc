@@ -299,6 +299,12 @@ namespace dieflow
           require(known(id), "Heat/Prescribed temperature ids", "id " + std::to_string(id) + " is not in the mesh");
         for (const auto &[id, h] : heat.transfer_coefficient)
           require(known(id), "Heat/Heat transfer coefficients", "id " + std::to_string(id) + " is not in the mesh");
+        for (const auto &[id, e] : heat.emissivity)
+          require(known(id), "Heat/Emissivities", "id " + std::to_string(id) + " is not in the mesh");
+        for (const auto &[id, e] : heat.die_effusivity)
+          require(contact.die_ids.count(id),
+                  "Heat/Die effusivities",
+                  "id " + std::to_string(id) + " is not one of Contact/Die ids");
       }
     // A free surface needs faces to start from: its own, or a die's to leave.
     if (free_surface.enabled() && contact.die_ids.empty())

@@ -140,7 +140,12 @@ namespace dieflow
     incompressibility.reinit(hanging_node_constraints, velocity, system_matrix);
     system_rhs.reinit(dof_handler.n_dofs());
     if (parameters.heat.enabled())
-      heat.setup();
+      {
+        // The hardening (Hansel-Spittel's (1 + eps)^(m5 T)) reads T where the flow does.
+        strain.set_flow_temperatures(heat.flow_temperatures());
+        incremental.set_flow_temperatures(heat.flow_temperatures());
+        heat.setup();
+      }
     if (parameters.steady_strain())
       strain.setup();
   }

@@ -109,7 +109,7 @@ namespace dieflow
     const double            ram_displacement        = incremental.ram_displacement(triangulation);
     // T goes over as the velocity does (nodal), its heat content measured on both meshes.
     const bool             heat_in_time = parameters.heat.model == HeatParameters::Model::transient;
-    const auto             heat_before  = heat_in_time ? heat.integrals() : std::pair<double, double>(0, 0);
+    const auto             heat_before  = heat_in_time ? heat.integrals() : typename HeatEquation<dim>::Integrals();
     dealii::Vector<double> fresh_temperature;
     if (heat_in_time)
       fresh_temperature = heat.on_new_mesh(fresh, "before step " + std::to_string(n));
@@ -125,10 +125,9 @@ namespace dieflow
     if (heat_in_time)
       {
         heat.take_new_mesh(std::move(fresh_temperature));
-        const auto [content, volume]   = heat.integrals();
-        const double rho_c             = parameters.heat.heat_capacity;
-        record.heat_content_change     = content / heat_before.first - 1;
-        record.mean_temperature_change = content / (rho_c * volume) - heat_before.first / (rho_c * heat_before.second);
+        const auto after               = heat.integrals();
+        record.heat_content_change     = after.content / heat_before.content - 1;
+        record.mean_temperature_change = after.temperature / after.volume - heat_before.temperature / heat_before.volume;
       }
 
     record.cells_after      = triangulation.n_active_cells();

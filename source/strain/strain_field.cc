@@ -303,10 +303,14 @@ namespace dieflow
     point_hardening    = values_at_points(dof_handler, strain, flow_quadrature);
     last.hardening_min = std::numeric_limits<double>::max();
     last.hardening_max = 0;
-    for (double &value : point_hardening)
+    // A new mesh's temperatures are those of its points once the heat is set up on it.
+    const bool with_temperature = flow_temperatures != nullptr && flow_temperatures->size() == point_hardening.size();
+    for (std::size_t i = 0; i < point_hardening.size(); ++i)
       {
+        double &value = point_hardening[i];
         // eps_h may dip below 0 by a little near a steep rise (no maximum principle with SUPG).
-        value              = material.hardening(std::max(value, 0.));
+        value = material.hardening(std::max(value, 0.),
+                                   with_temperature ? (*flow_temperatures)[i] : material.temperature);
         last.hardening_min = std::min(last.hardening_min, value);
         last.hardening_max = std::max(last.hardening_max, value);
       }

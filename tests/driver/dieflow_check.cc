@@ -134,6 +134,7 @@ namespace
         if (const auto &h = s.heat)
           for (const auto &[name, value] : std::vector<std::pair<std::string, double>>{
                  {"heat_solves", h->solves}, {"heat_settled", h->settled}, {"plastic_work", h->plastic_work},
+                 {"heat_property_passes", double(h->property_passes)},
                  {"plastic_heat", h->plastic_heat}, {"friction_work", h->friction_work},
                  {"friction_heat", h->friction_heat}, {"heat_carried", h->carried},
                  {"heat_transferred", h->transferred}, {"heat_prescribed_outflow", h->prescribed_outflow},

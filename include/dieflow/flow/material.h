@@ -1,4 +1,4 @@
-// The material: the viscosity laws (Newtonian, Norton-Hoff, Sellars-Tegart), their regularisation and bounds, strain hardening, the penalty factor.
+// The material: the viscosity laws (Newtonian, Norton-Hoff, Sellars-Tegart, Hansel-Spittel), their regularisation and bounds, strain hardening, the penalty factor.
 #ifndef dieflow_material_h
 #define dieflow_material_h
 
@@ -36,6 +36,27 @@ namespace dieflow
     is_linear() const
     {
       return false;
+    }
+
+    /// True when the law has a temperature dependence of its own
+    /// (viscosity_at()); otherwise the Material gives it the
+    /// Zener-Hollomon rate factor.
+    virtual bool
+    has_own_temperature() const
+    {
+      return false;
+    }
+
+    /// eta(epsdot, T) and d eta/d epsdot of a law with its own temperature dependence (T in K).
+    virtual double
+    viscosity_at(const double rate, const double) const
+    {
+      return viscosity(rate);
+    }
+    virtual double
+    derivative_at(const double rate, const double) const
+    {
+      return derivative(rate);
     }
   };
 
@@ -110,6 +131,54 @@ namespace dieflow
     const double alpha;
     const double n;
     const double ln_Z_over_A_shift; // Q/(R T) - ln A
+  };
+
+  /**
+   * The rate and temperature part of the Hansel-Spittel law (Hensel and
+   * Spittel 1978, in the form of FORGE and QForm),
+   *   sigma_eq = A e^(m1 T) T^m9 epsdot^(m3 + m8 T) g(eps, T),
+   *   g(eps, T) = eps^m2 e^(m4/eps) (1 + eps)^(m5 T) e^(m7 eps),
+   * with T in degrees Celsius (T^m9 taken at T >= 1 C) and the rate
+   * exponent m = m3 + m8 T held in [1e-3, 1] outside the range the
+   * constants were fitted in. The strain part g is the Material's
+   * hardening factor (Material::hardening(eps, T)); here
+   *   eta = A e^(m1 T) T^m9 epsdot^(m-1) / 3,  d eta/d epsdot = (m-1) eta/epsdot.
+   */
+  class HanselSpittelLaw : public ViscosityLaw
+  {
+  public:
+    HanselSpittelLaw(const double A,
+                     const double m1,
+                     const double m3,
+                     const double m8,
+                     const double m9,
+                     const double reference_temperature);
+    double
+    viscosity(const double rate) const override;
+    double
+    derivative(const double rate) const override;
+    bool
+    has_own_temperature() const override
+    {
+      return true;
+    }
+    double
+    viscosity_at(const double rate, const double T) const override;
+    double
+    derivative_at(const double rate, const double T) const override;
+    bool
+    is_linear() const override
+    {
+      return m3 == 1 && m8 == 0;
+    }
+
+    /// The rate exponent m3 + m8 T at @p T (K), held in [1e-3, 1].
+    double
+    rate_exponent(const double T) const;
+
+  private:
+    const double A, m1, m3, m8, m9;
+    const double reference_temperature;
   };
 
   /// Viscosity and its rate derivative at one point, with the regularised rate.
@@ -192,22 +261,38 @@ namespace dieflow
       return *law;
     }
 
-    /// Whether the flow stress depends on the strain (Hardening exponent n > 0).
+    /// Whether the flow stress depends on the strain (Hardening exponent n > 0, or Hansel-Spittel's strain terms).
     bool
     hardens() const
     {
-      return hardening_exponent > 0;
+      return hardening_exponent > 0 || (kind == Kind::hansel_spittel && (hs_m2 != 0 || hs_m4 != 0 || hs_m5 != 0 || hs_m7 != 0));
     }
 
-    /// The hardening factor (eps_0 + eps)^n at the equivalent strain @p strain (1 without hardening).
+    /// The hardening factor at the equivalent strain @p strain and the
+    /// temperature @p T (K): (eps_0 + eps)^n, or Hansel-Spittel's
+    /// g(max(eps, eps_0), T) (1 without hardening).
+    double
+    hardening(const double strain, const double T) const;
+    /// The hardening factor at Material/Temperature.
     double
     hardening(const double strain) const
     {
-      return hardens() ? std::pow(hardening_strain + strain, hardening_exponent) : 1.;
+      return hardening(strain, temperature);
     }
 
+    /// The laws.
+    enum class Kind
+    {
+      newtonian,
+      norton_hoff,
+      sellars_tegart,
+      hansel_spittel
+    };
+    Kind kind = Kind::newtonian;
     /// Name of the law as in the deck.
     std::string law_name;
+    /// Hansel-Spittel's strain constants (g(eps, T) of HanselSpittelLaw).
+    double      hs_m2 = 0, hs_m4 = 0, hs_m5 = 0, hs_m7 = 0;
     double      hardening_exponent  = 0;
     double      hardening_strain    = 0.01;
     double      minimum_strain_rate = 1e-4;

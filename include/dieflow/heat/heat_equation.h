@@ -34,6 +34,15 @@ namespace dieflow
    * v.grad T), lost through the parts with a heat transfer coefficient, and
    * conducted out through the parts where T is prescribed (their reaction).
    */
+  /// A contact node's friction work -F_t.v_slip (N mm/s) at @p position on die @p die: a heat source at the die.
+  template <int dim>
+  struct FrictionWork
+  {
+    dealii::Point<dim> position;
+    double             work;
+    BoundaryId         die;
+  };
+
   struct HeatRecord
   {
     /// Heat/Model = transient: the record of a step (stored, no outlet) rather than of a steady solve.
@@ -43,6 +52,8 @@ namespace dieflow
     bool         settled = false;
     /// The last solve's largest change of T (K).
     double last_change = 0;
+    /// The last solve's passes with rho c, k and the radiation at the last T (tabulated properties, Emissivities; 0 when linear).
+    unsigned int property_passes = 0;
     /// The plastic work int sigma:D, beta of it, and the friction work and the metal's share (N mm/s).
     double plastic_work = 0, plastic_heat = 0, friction_work = 0, friction_heat = 0;
     /// int rho c v.grad T (steady), int rho c (T - T_old)/dt (in time: what the step stores in the metal),
@@ -103,8 +114,9 @@ namespace dieflow
 
     /**
      * Solves for T with the flow's @p velocity (its viscosity at the
-     * current T) and the contact nodes' friction work @p friction
-     * ((position, -F_t.v_slip) per node); returns the largest change of T
+     * current T) and the contact nodes' friction work @p friction, the
+     * metal's share of it (HeatParameters::friction_share_at()) a source at
+     * the node; returns the largest change of T
      * in K. The flow keeps its temperatures until update_flow_temperatures().
      * A hardening law's factor (eps_0 + eps)^n multiplies the viscosity of
      * the plastic work as it does the flow's: @p hardening's cell factors
@@ -115,7 +127,7 @@ namespace dieflow
     double
     solve(const dealii::DoFHandler<dim> &                        flow_dofs,
           const dealii::Vector<double> &                         velocity,
-          const std::vector<std::pair<dealii::Point<dim>, double>> &friction,
+          const std::vector<FrictionWork<dim>> &                 friction,
           const double                                           dt        = 0,
           const dealii::Vector<double> *                         cell_hardening  = nullptr,
           const std::vector<double> *                            point_hardening = nullptr);
@@ -137,8 +149,13 @@ namespace dieflow
     /// The mesh has become the new one: its dofs, and T from on_new_mesh().
     void
     take_new_mesh(dealii::Vector<double> &&carried);
-    /// int rho c T (N mm, per mm of depth in plane strain) and the volume, with the geometry's weight.
-    std::pair<double, double>
+    /// The heat content int H(T) dx, H = int_0^T rho c (N mm, per mm of depth in plane strain), the volume
+    /// and int T dx, with the geometry's weight.
+    struct Integrals
+    {
+      double content = 0, volume = 0, temperature = 0;
+    };
+    Integrals
     integrals() const;
     /// The record's extremes, mean and vertex values from the current T (at t = 0, after a new mesh).
     void

@@ -7,6 +7,8 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace dieflow
 {
@@ -18,6 +20,41 @@ namespace dieflow
    * (= 1e-3 h[W/(m^2 K)]), so that sigma:D (MPa/s = mW/mm^3) is a heat
    * source without a factor.
    */
+  /**
+   * A thermal property of the metal as a function of T: a constant, or
+   * linear between the points (T_i, p_i) of a table and constant beyond
+   * its ends. integral(T) = int_0^T p(s) ds, exactly (piecewise
+   * quadratic): with p = rho c the heat content (enthalpy) per volume,
+   * with p = k Kirchhoff's transform.
+   */
+  class ThermalProperty
+  {
+  public:
+    /// The constant @p value.
+    void
+    set_constant(const double value);
+    /// "T: p, T: p, ..." (T in K, ascending, above 0; p positive) times @p scale; @p entry names the entry in errors.
+    void
+    parse_table(const std::string &entry, const std::string &text, const double scale);
+
+    double
+    value(const double T) const;
+    double
+    integral(const double T) const;
+    /// dp/dT (0 beyond the table's ends and for a constant).
+    double
+    slope(const double T) const;
+    bool
+    is_constant() const
+    {
+      return points.size() == 1;
+    }
+
+  private:
+    /// (T_i, p_i), ascending in T; one point for a constant (its T unused).
+    std::vector<std::pair<double, double>> points = {{0., 0.}};
+  };
+
   struct HeatParameters
   {
     enum class Model
@@ -41,8 +78,8 @@ namespace dieflow
     Stabilisation stabilisation = Stabilisation::supg;
     /// Degree of the temperature element; 0: the velocity's.
     unsigned int degree = 0;
-    /// rho c in N/(mm^2 K), k in N/(s K).
-    double heat_capacity = 0, conductivity = 0;
+    /// rho c in N/(mm^2 K), k in N/(s K): constant, or tabulated in T (Specific heat table, Conductivity table).
+    ThermalProperty heat_capacity, conductivity;
     /// The share of the plastic work that becomes heat (Taylor-Quinney), of the friction work that goes into the metal.
     double taylor_quinney = 0.9, friction_share = 0.5;
     /// T = expression on these ids (the billet entering).
@@ -52,6 +89,26 @@ namespace dieflow
     std::string exact_temperature;
     /// Heat lost through a part, h (T - T_ambient): h in N/(mm s K) and T_ambient per id (dies, free surfaces).
     std::map<BoundaryId, double> transfer_coefficient, ambient_temperature;
+    /// Emissivity e per id: the part radiates e sigma (T^4 - T_ambient^4) too.
+    std::map<BoundaryId, double> emissivity;
+    /// Stefan-Boltzmann's sigma in N/(mm s K^4) (5.670374419e-8 W/(m^2 K^4)).
+    static constexpr double stefan_boltzmann = 5.670374419e-11;
+
+    /// The heat flux (N/(mm s)) out through part @p id at @p T: h (T - T_a) + e sigma (T^4 - T_a^4), 0 for an insulated part.
+    double
+    wall_flux(const BoundaryId id, const double T) const;
+    /// Effusivity sqrt(k rho c) of a die per id, in the program's units (N/(mm s^1/2 K) = 1e-3 W s^1/2/(m^2 K)).
+    std::map<BoundaryId, double> die_effusivity;
+    /// The metal's share of the friction work at die @p die where the metal is at @p T: e_m/(e_m + e_die)
+    /// with the metal's effusivity e_m = sqrt(k(T) rho c(T)) (two half-spaces in sliding contact), or Friction heat share.
+    double
+    friction_share_at(const BoundaryId die, const double T) const;
+    /// Whether part @p id loses heat to its surroundings (a transfer coefficient or an emissivity).
+    bool
+    exchanges(const BoundaryId id) const
+    {
+      return transfer_coefficient.count(id) > 0 || emissivity.count(id) > 0;
+    }
     /// The most staggered solves (heat, then flow) per cycle, and when they have settled.
     unsigned int coupling_iterations = 10;
     double       coupling_tolerance  = 1e-3;

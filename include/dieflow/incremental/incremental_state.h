@@ -140,15 +140,24 @@ namespace dieflow
     /// load-stroke.txt's rows of the run a checkpoint came from.
     std::string earlier_load_stroke;
 
-  private:
-    /// The hardening factor (eps_0 + eps)^n of every active cell.
+    /// The hardening factor (Material::hardening()) of every active cell, at
+    /// the mean of the temperatures of its points (set_flow_temperatures(); Material/Temperature without them).
     void
     update_hardening();
+    /// The temperatures at the flow's quadrature points, per active cell (HeatEquation::flow_temperatures()).
+    void
+    set_flow_temperatures(const std::vector<double> *temperatures)
+    {
+      flow_temperatures = temperatures;
+    }
+
+  private:
 
     const TimeStepping &         time_stepping;
     const CoordinateSystem<dim> &coordinates;
     const Material &             material;
     dealii::Vector<double>       cell_hardening;
+    const std::vector<double> *  flow_temperatures = nullptr;
     /// The ram part's vertices with their positions at the start (or at the last new mesh).
     std::map<unsigned int, dealii::Point<dim>> ram_start;
     /// The ram's mean displacement before the last new mesh (ram_start's base).

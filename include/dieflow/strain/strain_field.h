@@ -110,9 +110,16 @@ namespace dieflow
     double
     solve(const dealii::DoFHandler<dim> &flow_dofs, const dealii::Vector<double> &velocity, const bool relax = false);
 
-    /// The hardening factor at the flow's quadrature points (QGauss(velocity degree + 1), per active cell) from the current eps.
+    /// The hardening factor at the flow's quadrature points (QGauss(velocity degree + 1), per active cell) from the current eps,
+    /// at the temperatures there (set_flow_temperatures(); Material/Temperature without them).
     void
     update_flow_hardening();
+    /// The temperatures at the flow's quadrature points that the hardening factor reads (HeatEquation::flow_temperatures()).
+    void
+    set_flow_temperatures(const std::vector<double> *temperatures)
+    {
+      flow_temperatures = temperatures;
+    }
     /// What the flow assembly reads (FlowTerms::point_hardening).
     const std::vector<double> *
     flow_hardening() const
@@ -164,6 +171,7 @@ namespace dieflow
     dealii::Vector<double>                       rhs;
     dealii::Vector<double>                       strain;
     std::vector<double>                          point_hardening;
+    const std::vector<double> *                  flow_temperatures = nullptr;
     std::unique_ptr<dealii::SolutionTransfer<dim, dealii::Vector<double>>> transfer;
     StrainRecord                                 last;
     /// The last solve's change G(eps) - eps and its relaxation factor (Aitken), for relaxed solves.
