@@ -4,6 +4,8 @@
 //  - the values against the formulas written out here (Norton-Hoff with
 //    m = 1 is Newtonian with eta = K/3; Sellars-Tegart in its textbook form
 //    with Z computed directly);
+//  - Hansel-Spittel's rate and temperature part at two temperatures, its
+//    strain terms (the Material's hardening factor) with their floor eps_0;
 //  - the Material's regularisation: eta at epsdot_eq = 0 is the law at
 //    epsdot_min, and its derivative is the chain rule of sqrt(e^2 + e0^2).
 #include <dieflow/flow/material.h>
@@ -67,6 +69,43 @@ main()
   report("Sellars-Tegart gives the textbook flow stress", st_ok);
   std::cout << "AA6063 flow stress at 450 C and 10 1/s: " << std::fixed << std::setprecision(2)
             << sellars_tegart.flow_stress(10.) << " MPa" << std::endl;
+
+  // Hansel-Spittel's rate and temperature part, T in C: A e^(m1 T) T^m9 epsdot^(m3 + m8 T).
+  const HanselSpittelLaw hansel_spittel(2., -0.002, 0.12, 2e-4, 0.1, 573.15);
+  report("Hansel-Spittel derivative matches finite differences (1e-7)",
+         worst_derivative_error(hansel_spittel) < 1e-7);
+  bool hs_ok = true;
+  for (const double T : {573.15, 723.15})
+    for (double rate = 1e-3; rate <= 1e3; rate *= 10)
+      {
+        const double celsius = T - 273.15;
+        const double sigma   = 2. * std::exp(-0.002 * celsius) * std::pow(celsius, 0.1) * std::pow(rate, 0.12 + 2e-4 * celsius);
+        hs_ok &= std::abs(hansel_spittel.viscosity_at(rate, T) * 3 * rate / sigma - 1) < 1e-12;
+        const double h  = 1e-6 * rate;
+        const double fd = (hansel_spittel.viscosity_at(rate + h, T) - hansel_spittel.viscosity_at(rate - h, T)) / (2 * h);
+        hs_ok &= std::abs(fd - hansel_spittel.derivative_at(rate, T)) < 1e-7 * hansel_spittel.viscosity_at(rate, T) / rate;
+      }
+  report("Hansel-Spittel gives A e^(m1 T) T^m9 epsdot^(m3 + m8 T), T in C, at 300 and 450 C", hs_ok);
+  {
+    // Its strain terms, the Material's hardening factor: eps^m2 e^(m4/eps) (1 + eps)^(m5 T) e^(m7 eps), eps >= eps_0.
+    ParameterHandler hs;
+    Material::declare_parameters(hs);
+    hs.parse_input_from_string("subsection Material\n set Law = Hansel-Spittel\n set Hansel-Spittel m2 = 0.2\n"
+                               " set Hansel-Spittel m4 = -0.01\n set Hansel-Spittel m5 = 5e-4\n"
+                               " set Hansel-Spittel m7 = -0.3\n set Hardening strain eps0 = 0.02\nend\n");
+    Material hs_material;
+    hs_material.parse_parameters(hs);
+    const auto g = [](const double eps, const double celsius) {
+      return std::pow(eps, 0.2) * std::exp(-0.01 / eps) * std::pow(1 + eps, 5e-4 * celsius) * std::exp(-0.3 * eps);
+    };
+    bool g_ok = hs_material.hardens();
+    for (const double T : {573.15, 723.15})
+      for (const double eps : {0.05, 0.5, 2.0})
+        g_ok &= std::abs(hs_material.hardening(eps, T) / g(eps, T - 273.15) - 1) < 1e-14;
+    g_ok &= hs_material.hardening(0., 723.15) == hs_material.hardening(0.02, 723.15);
+    g_ok &= std::abs(hs_material.hardening(0.5) / g(0.5, 450.) - 1) < 1e-14; // at Material/Temperature, 450 C
+    report("Hansel-Spittel's strain terms are the hardening factor, eps taken no smaller than eps_0", g_ok);
+  }
 
   // The Material's regularisation and bounds, through a deck.
   ParameterHandler prm;

@@ -197,6 +197,42 @@ namespace dieflow
 
 
 
+  template <int dim>
+  double
+  HeatEquation<dim>::restore_content(const double content)
+  {
+    const dealii::QGauss<dim>             quadrature(fe.degree + 1);
+    dealii::FEValues<dim>                 fe_values(fe, quadrature, dealii::update_values | dealii::update_quadrature_points | dealii::update_JxW_values);
+    std::vector<double>                   T(quadrature.size());
+    std::vector<std::pair<double, double>> points;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        fe_values.get_function_values(temperature, T);
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          points.emplace_back(T[q], fe_values.JxW(q) * coordinates.weight(fe_values.quadrature_point(q)));
+      }
+    const ThermalProperty &rho_c = parameters.heat_capacity;
+    double                 shift = 0;
+    for (unsigned int iteration = 0; iteration < 50; ++iteration)
+      {
+        double excess = -content, slope = 0;
+        for (const auto &[value, dx] : points)
+          {
+            excess += rho_c.integral(value + shift) * dx;
+            slope += rho_c.value(value + shift) * dx;
+          }
+        if (std::abs(excess) <= 1e-15 * std::abs(content))
+          break;
+        shift -= excess / slope;
+      }
+    temperature.add(shift);
+    record_state();
+    return shift;
+  }
+
+
+
   template void
   HeatEquation<2>::make_record(const dealii::DoFHandler<2> &, const dealii::Vector<double> &, const double, const dealii::Vector<double> &, const double);
   template void
@@ -213,6 +249,10 @@ namespace dieflow
   HeatEquation<2>::wall_flux(const dealii::types::boundary_id, const double) const;
   template double
   HeatEquation<3>::wall_flux(const dealii::types::boundary_id, const double) const;
+  template double
+  HeatEquation<2>::restore_content(const double);
+  template double
+  HeatEquation<3>::restore_content(const double);
   template HeatEquation<2>::Integrals
   HeatEquation<2>::integrals() const;
   template HeatEquation<3>::Integrals

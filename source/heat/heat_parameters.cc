@@ -104,6 +104,13 @@ namespace dieflow
                         "e sigma (T^4 - T_ambient^4), sigma = 5.670374e-8 W/(m^2 K^4) "
                         "(free surfaces in hot working: oxidised steel 0.8, aluminium "
                         "0.1-0.3).");
+      prm.declare_entry("Conservative transfer",
+                        "true",
+                        Bool(),
+                        "Runs in time: when the domain is meshed anew, T interpolated at the "
+                        "new nodes is shifted uniformly so that the heat content per volume "
+                        "is what it was (the interpolation's error, reported in the log, "
+                        "spread over the metal). false: interpolated only.");
       prm.declare_entry("Coupling iterations",
                         "10",
                         Integer(1, 100),
@@ -311,6 +318,7 @@ namespace dieflow
       require(ambient_temperature.count(id),
               "Heat/Ambient temperatures",
               "id " + std::to_string(id) + " of Emissivities needs one");
+    conservative_transfer = prm.get_bool("Conservative transfer");
     coupling_iterations = prm.get_integer("Coupling iterations");
     coupling_tolerance  = prm.get_double("Coupling tolerance");
     require(std::isfinite(coupling_tolerance) && coupling_tolerance > 0,

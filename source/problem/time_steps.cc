@@ -111,6 +111,7 @@ namespace dieflow
     const bool             heat_in_time = parameters.heat.model == HeatParameters::Model::transient;
     const auto             heat_before  = heat_in_time ? heat.integrals() : typename HeatEquation<dim>::Integrals();
     dealii::Vector<double> fresh_temperature;
+    double                 interpolated = 0, shift = 0;
     if (heat_in_time)
       fresh_temperature = heat.on_new_mesh(fresh, "before step " + std::to_string(n));
 
@@ -125,7 +126,14 @@ namespace dieflow
     if (heat_in_time)
       {
         heat.take_new_mesh(std::move(fresh_temperature));
-        const auto after               = heat.integrals();
+        auto after   = heat.integrals();
+        interpolated = after.content / heat_before.content - 1;
+        // The heat content per volume kept: metal the new boundary leaves out (or takes in) carries its share.
+        if (parameters.heat.conservative_transfer)
+          {
+            shift = heat.restore_content(heat_before.content * after.volume / heat_before.volume);
+            after = heat.integrals();
+          }
         record.heat_content_change     = after.content / heat_before.content - 1;
         record.mean_temperature_change = after.temperature / after.volume - heat_before.temperature / heat_before.volume;
       }
@@ -153,7 +161,10 @@ namespace dieflow
       log << ", " << record.dropped_vertices << " crowding boundary vertices dropped";
     if (heat_in_time)
       log << ", heat content change " << record.heat_content_change << " (mean T " << std::showpos
-          << record.mean_temperature_change << std::noshowpos << " K)";
+          << record.mean_temperature_change << std::noshowpos << " K"
+          << (parameters.heat.conservative_transfer ? ", the interpolation's " + deck_number(interpolated) +
+                                                        " undone by a uniform shift of " + deck_number(shift) + " K)" :
+                                                      std::string(")"));
     if (!new_mesh.attempt.empty())
       log << ", Gmsh's first attempt failed, made with " << new_mesh.attempt;
     if (transfer.n_in_folds() > 0)

@@ -126,6 +126,7 @@ namespace
             cycle["max_strain"]          = s.step->max_strain;
             cycle["remeshed"]            = s.step->remesh.has_value();
             cycle["remesh_volume_change"] = s.step->remesh ? s.step->remesh->volume_change : 0.;
+            cycle["remesh_heat_content_change"] = s.step->remesh ? s.step->remesh->heat_content_change : 0.;
             cycle["jacobian_after_remesh"] = s.step->remesh ? s.step->remesh->jacobian_after : nan;
             cycle["split_edges"]          = s.step->remesh ? s.step->remesh->split_edges : 0.;
           }

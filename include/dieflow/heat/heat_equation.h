@@ -157,6 +157,10 @@ namespace dieflow
     };
     Integrals
     integrals() const;
+    /// Shifts T uniformly so that the heat content int H(T) dx becomes @p content (Newton on the shift, exact in one
+    /// step for a constant rho c); returns the shift in K. Lagrange elements and hanging-node constraints keep constants.
+    double
+    restore_content(const double content);
     /// The record's extremes, mean and vertex values from the current T (at t = 0, after a new mesh).
     void
     record_state();

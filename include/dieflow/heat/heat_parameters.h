@@ -109,6 +109,8 @@ namespace dieflow
     {
       return transfer_coefficient.count(id) > 0 || emissivity.count(id) > 0;
     }
+    /// Runs in time: T carried to a new mesh keeps the heat content per volume (a uniform shift after the interpolation).
+    bool conservative_transfer = true;
     /// The most staggered solves (heat, then flow) per cycle, and when they have settled.
     unsigned int coupling_iterations = 10;
     double       coupling_tolerance  = 1e-3;
