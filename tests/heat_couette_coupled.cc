@@ -16,9 +16,19 @@
 // across) must converge to it: the wall shear F_x[4]/L and T_max = T(H/2)
 // within 1e-4 relative on the finest mesh and at an order of at least 3
 // (measured 3.9-4.0: quadratic elements, smooth solution), every cycle's
-// coupling settled and its heat balance closed to 1e-9.
+// coupling settled and its heat balance closed to 1e-9. The dual-weighted
+// estimate of F_x[4] (Refinement/Dual-weighted estimate; its dual problem
+// and its residual at the field's T) has the true error's sign and 10 to
+// 100 % of it on the first three meshes (measured 0.25, 0.23, 0.17; after
+// that the error reaches the solvers' tolerance): not all of it, as the
+// dual is the flow's at a frozen T and misses T's own discretisation
+// error, here the larger part. Before 2026-12-03 the dual problem read the
+// flow's point temperatures at its own quadrature (another size: the run
+// stopped in UMFPACK); with the residual's viscosity at Material/Temperature
+// the estimate is 1e-6 of the error (tried: the check fails).
 #include "fuzz.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iomanip>
@@ -82,7 +92,7 @@ namespace
            "subsection Contact\n  set Die ids =\nend\n"
            "subsection Refinement\n  set Cycles = " +
            std::to_string(cycles) +
-           "\n  set Strategy = global\nend\n"
+           "\n  set Strategy = global\n  set Dual-weighted estimate = true\n  set Target quantity = F_x[4]\nend\n"
            "subsection Discretisation\n  set Velocity degree = 2\nend\n"
            "subsection Heat\n  set Model = steady\n  set Density = 1000\n  set Specific heat = 1000\n"
            "  set Conductivity = 1\n  set Taylor-Quinney coefficient = 1\n"
@@ -119,13 +129,15 @@ main()
   const fuzz::Outcome outcome = fuzz::run("nahme.prm", deck(cycles));
   const auto          tree    = fuzz::summary("nahme");
   std::cout << "exit status " << outcome.status << std::endl;
-  std::vector<double> tau_error, T_error;
+  std::vector<double> tau_error, T_error, effectivity;
   bool                settled = true, balanced = true;
   for (const auto &[key, cycle] : tree.get_child("cycles"))
     {
       const double shear = fuzz::number(cycle, "quantities|F_x[4]") / L;
       const double T_max = fuzz::number(cycle, "heat|T_max");
       tau_error.push_back(std::abs(shear - tau) / tau);
+      // The dual-weighted estimate of F_x[4] exact - computed, against the true error tau L - F_x[4].
+      effectivity.push_back(fuzz::number(cycle, "dual_weighted_error") / (tau * L - fuzz::number(cycle, "quantities|F_x[4]")));
       T_error.push_back(std::abs(T_max - T_mid) / (T_mid - T_0));
       settled = settled && cycle.get<std::string>("heat.settled", "false") == "true";
       balanced = balanced && std::abs(fuzz::number(cycle, "heat|balance_error")) < 1e-9;
@@ -146,6 +158,10 @@ main()
             << "wall shear within 1e-4 of the ODE's: " << verdict(all_cycles && tau_error.back() < 1e-4) << std::endl
             << "T(H/2) within 1e-4 (of the rise) of the ODE's: " << verdict(all_cycles && T_error.back() < 1e-4)
             << std::endl
-            << "orders at least 3: " << verdict(all_cycles && order(tau_error) > 3 && order(T_error) > 3) << std::endl;
+            << "orders at least 3: " << verdict(all_cycles && order(tau_error) > 3 && order(T_error) > 3) << std::endl
+            << "the dual-weighted estimate has the true error's sign and 10 to 100 % of it on the first three meshes: "
+            << verdict(all_cycles && std::all_of(effectivity.begin(), effectivity.begin() + 3,
+                                                 [](const double e) { return e > 0.1 && e < 1; }))
+            << std::endl;
   return 0;
 }

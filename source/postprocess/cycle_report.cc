@@ -116,9 +116,23 @@ namespace dieflow
     summary.error_estimate   = kelly_estimate(dof_handler, velocity);
     if (settings.dual_weighted_estimate)
       {
+        // The flow's T and hardening, from their fields at the dual's points.
+        const PointFields fields = [&view](const unsigned int points) {
+          std::vector<double> temperature, hardening;
+          if (view.temperature != nullptr)
+            temperature = view.temperature->values_at(points);
+          if (view.strain_field != nullptr && view.material.hardens())
+            {
+              hardening = view.strain_field->values_at(points);
+              for (std::size_t i = 0; i < hardening.size(); ++i)
+                hardening[i] = view.material.hardening(std::max(hardening[i], 0.),
+                                                       temperature.empty() ? view.material.temperature : temperature[i]);
+            }
+          return std::make_pair(temperature, hardening);
+        };
         const auto goal = dual_weighted_force_error(dof_handler, view.hanging_node_constraints, velocity, view.flow,
                                                     view.terms, view.material, contact, view.boundary_conditions,
-                                                    die_ids, settings.goal_part);
+                                                    die_ids, settings.goal_part, fields);
         summary.dual_weighted_error = goal.error;
         log << "  dual-weighted estimate: F_x[" << settings.goal_part << "] exact - computed = " << std::setprecision(3)
             << goal.error << " (velocity part " << goal.velocity_part << ", pressure part " << goal.pressure_part

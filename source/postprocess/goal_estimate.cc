@@ -17,6 +17,7 @@
 #include <deal.II/lac/sparsity_pattern.h>
 
 #include <functional>
+#include <tuple>
 
 namespace dieflow
 {
@@ -169,7 +170,8 @@ namespace dieflow
                             const ContactSet<dim> &          contact,
                             const BoundaryConditions<dim> &  boundary_conditions,
                             const std::set<BoundaryId> &     die_ids,
-                            const BoundaryId                 part_id)
+                            const BoundaryId                 part_id,
+                            const PointFields &              fields)
   {
     const auto &                  fe = dof_handler.get_fe();
     const dealii::FESystem<dim>   dual_fe(dealii::FE_Q<dim>(fe.degree + 1), dim);
@@ -210,13 +212,24 @@ namespace dieflow
     Vector<double> psi(dual_dofs.n_dofs());
     dealii::FETools::interpolate(dof_handler, force_direction(dof_handler, hanging_node_constraints, part_id), dual_dofs,
                                  dual_hanging, psi);
+    // The flow's T and hardening at the dual assembly's points, QGauss(dual degree + 1).
+    FlowTerms<dim>      dual_terms = terms;
+    std::vector<double> dual_temperature, dual_hardening;
+    Assert((terms.temperature == nullptr && terms.point_hardening == nullptr) || fields,
+           dealii::ExcMessage("The flow reads T or a hardening at its points: the dual needs them at its own."));
+    if (fields)
+      {
+        std::tie(dual_temperature, dual_hardening) = fields(dual_fe.degree + 1);
+        dual_terms.temperature     = dual_temperature.empty() ? nullptr : &dual_temperature;
+        dual_terms.point_hardening = dual_hardening.empty() ? nullptr : &dual_hardening;
+      }
     dealii::SparseMatrix<double> jacobian(pattern);
     Vector<double>               minus_residual;
     SystemAssembler<dim>(dual_dofs, constraints, assembler, dual_contact)
-      .assemble(v, terms, Linearization::newton, &jacobian, minus_residual);
+      .assemble(v, dual_terms, Linearization::newton, &jacobian, minus_residual);
     dealii::SparseDirectUMFPACK solver;
     solver.initialize(jacobian);
-    const Vector<double> z = force_dual(dual_dofs, dual_hanging, constraints, pattern, v, assembler, terms, dual_contact, psi,
+    const Vector<double> z = force_dual(dual_dofs, dual_hanging, constraints, pattern, v, assembler, dual_terms, dual_contact, psi,
                                         [&solver](Vector<double> &b) { solver.solve(b, true); });
 
     // I_h z must be a conforming function of the solution's space (its
@@ -231,6 +244,11 @@ namespace dieflow
     result.dual_dofs = dual_dofs.n_dofs();
     const double                             lambda = terms.penalty;
     const dealii::QGauss<dim>                quadrature(fe.degree + 3);
+    std::vector<double>                      temperature_points, hardening_points;
+    if (fields)
+      std::tie(temperature_points, hardening_points) = fields(fe.degree + 3);
+    const std::vector<double> *temperature = temperature_points.empty() ? nullptr : &temperature_points;
+    const std::vector<double> *hardening   = hardening_points.empty() ? nullptr : &hardening_points;
     dealii::FEValues<dim>                    values(fe, quadrature, dealii::update_gradients | dealii::update_quadrature_points | dealii::update_JxW_values);
     dealii::FEValues<dim>                    dual_values(dual_fe, quadrature, dealii::update_values | dealii::update_gradients | dealii::update_quadrature_points | dealii::update_JxW_values);
     const dealii::QGauss<dim - 1>            face_quadrature(fe.degree + 3);
@@ -257,7 +275,13 @@ namespace dieflow
         for (const unsigned int q : values.quadrature_point_indices())
           {
             const auto  &x     = values.quadrature_point(q);
-            const double eta   = material.evaluate(std::sqrt(2. / 3. * (D[q] * D[q]))).eta;
+            // The flow's stress: its viscosity at the field's T and hardening at these points.
+            const std::size_t point = cell->active_cell_index() * quadrature.size() + q;
+            const double      rate  = std::sqrt(2. / 3. * (D[q] * D[q]));
+            const double      eta   = (temperature != nullptr ? material.evaluate(rate, (*temperature)[point]).eta :
+                                                               material.evaluate(rate).eta) *
+                                 (hardening != nullptr ? (*hardening)[point] : 1.) *
+                                 (terms.hardening != nullptr ? (*terms.hardening)[cell->active_cell_index()] : 1.);
             const double p     = -lambda * projection.value(divergence.begin(), x);
             velocity_part += (2. * eta * (D[q] * D_w[q]) - p * div_w[q]) * values.JxW(q);
             // int (z_p - P z_p) div v_h = int z_p (div v_h - P div v_h),
@@ -286,7 +310,8 @@ namespace dieflow
   template GoalEstimate
   dual_weighted_force_error<2>(const DoFHandler<2> &, const AffineConstraints<double> &, const Vector<double> &,
                                const FlowAssembler<2> &, const FlowTerms<2> &, const Material &, const ContactSet<2> &,
-                               const BoundaryConditions<2> &, const std::set<BoundaryId> &, const BoundaryId);
+                               const BoundaryConditions<2> &, const std::set<BoundaryId> &, const BoundaryId,
+                               const PointFields &);
   template Vector<double>
   force_dual<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const AffineConstraints<double> &,
                 const dealii::SparsityPattern &, const Vector<double> &, const FlowAssembler<3> &, const FlowTerms<3> &, const ContactSet<3> &,
@@ -298,5 +323,6 @@ namespace dieflow
   template GoalEstimate
   dual_weighted_force_error<3>(const DoFHandler<3> &, const AffineConstraints<double> &, const Vector<double> &,
                                const FlowAssembler<3> &, const FlowTerms<3> &, const Material &, const ContactSet<3> &,
-                               const BoundaryConditions<3> &, const std::set<BoundaryId> &, const BoundaryId);
+                               const BoundaryConditions<3> &, const std::set<BoundaryId> &, const BoundaryId,
+                               const PointFields &);
 } // namespace dieflow

@@ -224,7 +224,8 @@ namespace dieflow
                              parameters.time_stepping.incremental ? &incremental.equivalent_strain : nullptr,
                              parameters.heat.enabled() ? &heat.record() : nullptr,
                              parameters.heat.enabled() ? &heat : nullptr,
-                             parameters.steady_strain() ? &strain.record() : nullptr};
+                             parameters.steady_strain() ? &strain.record() : nullptr,
+                             parameters.steady_strain() ? &strain : nullptr};
   }
 
   template class DieFlowProblem<2>;

@@ -5,6 +5,7 @@
 #include <dieflow/flow/material.h>
 #include <dieflow/heat/heat_parameters.h>
 #include <dieflow/mesh/coordinate_system.h>
+#include <dieflow/mesh/scalar_field.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/point.h>
@@ -225,6 +226,12 @@ namespace dieflow
     n_dofs() const
     {
       return dof_handler.n_dofs();
+    }
+    /// T at QGauss(@p points_per_direction)'s points of each active cell (values_at_points()).
+    std::vector<double>
+    values_at(const unsigned int points_per_direction) const
+    {
+      return values_at_points(dof_handler, temperature, points_per_direction);
     }
 
   private:

@@ -51,6 +51,8 @@ namespace dieflow
     const HeatEquation<dim> *         temperature;
     /// The steady equivalent strain field's record, or null.
     const StrainRecord *              strain;
+    /// The steady equivalent strain field (for the dual-weighted estimate's stresses), or null.
+    const StrainField<dim> *          strain_field;
   };
 
   /// How a run reports: where its files go, which, and its quantities of interest.

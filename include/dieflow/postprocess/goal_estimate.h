@@ -12,9 +12,15 @@
 #include <deal.II/lac/vector.h>
 
 #include <functional>
+#include <utility>
+#include <vector>
 
 namespace dieflow
 {
+  /// The temperature and the hardening factor at QGauss(@p n)'s points of each active cell, indexed as
+  /// FlowTerms' (an empty vector: isothermal, no steady hardening): what the flow reads, on the dual's quadratures.
+  using PointFields = std::function<std::pair<std::vector<double>, std::vector<double>>(const unsigned int n)>;
+
   /// What dual_weighted_force_error() returns.
   struct GoalEstimate
   {
@@ -123,7 +129,8 @@ namespace dieflow
                             const ContactSet<dim> &          contact,
                             const BoundaryConditions<dim> &  boundary_conditions,
                             const std::set<BoundaryId> &     die_ids,
-                            const BoundaryId                 part_id);
+                            const BoundaryId                 part_id,
+                            const PointFields &              fields = {});
 } // namespace dieflow
 
 #endif

@@ -5,6 +5,7 @@
 #include <dieflow/base/parameters.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/mesh/coordinate_system.h>
+#include <dieflow/mesh/scalar_field.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -150,6 +151,12 @@ namespace dieflow
     n_dofs() const
     {
       return dof_handler.n_dofs();
+    }
+    /// eps at QGauss(@p points_per_direction)'s points of each active cell (values_at_points()).
+    std::vector<double>
+    values_at(const unsigned int points_per_direction) const
+    {
+      return values_at_points(dof_handler, strain, points_per_direction);
     }
 
   private:
