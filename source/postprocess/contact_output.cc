@@ -180,6 +180,20 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The metal's T at a contact node: its vertex's (the record's), else (a degree-2 node between vertices) found in the mesh.
+    template <int dim>
+    double
+    node_temperature(const HeatEquation<dim> &heat, const ContactNodeResult<dim> &node)
+    {
+      const auto &vertices = heat.record().vertex_temperature;
+      return node.vertex < vertices.size() ? vertices[node.vertex] : heat.value_at(node.position);
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   write_die_profiles(const std::set<BoundaryId> &                        die_ids,
@@ -190,7 +204,7 @@ namespace dieflow
   {
     if constexpr (dim == 3)
       {
-        write_die_surfaces(die_ids, results, directory);
+        write_die_surfaces(die_ids, results, heat, directory);
         return;
       }
     for (const auto id : die_ids)
@@ -234,7 +248,7 @@ namespace dieflow
                 << static_cast<int>(r.status) << ' ' << (vertex_stress ? recovered[i] : pressure) << ' ' << shear;
             if (heat)
               {
-                const double T = heat->value_at(r.position);
+                const double T = node_temperature(*heat, r);
                 out << ' ' << T << ' ' << heat->wall_flux(id, T);
               }
             out << '\n';
@@ -249,6 +263,7 @@ namespace dieflow
   void
   write_die_surfaces(const std::set<BoundaryId> &               die_ids,
                      const std::vector<ContactNodeResult<dim>> &results,
+                     const HeatEquation<dim> *                  heat,
                      const std::string &                        directory)
   {
     for (const auto id : die_ids)
@@ -261,7 +276,8 @@ namespace dieflow
                "tangent plane\n"
             << "# x(mm) y(mm) z(mm) contact_pressure(MPa) friction_stress_x friction_stress_y friction_stress_z "
                "|friction_stress|(MPa) normal_velocity(mm/s) slip_velocity_x slip_velocity_y slip_velocity_z "
-               "status(0 separated, 1 stick, 2 slip)\n";
+               "status(0 separated, 1 stick, 2 slip)"
+            << (heat ? " temperature(K) heat_flux(mW/mm^2, into the die)" : "") << '\n';
         for (const auto &r : results)
           if (r.id == id)
             {
@@ -275,7 +291,13 @@ namespace dieflow
               out << friction.norm() << ' ' << r.normal_rate;
               for (unsigned int d = 0; d < dim; ++d)
                 out << ' ' << r.slip_velocity[d];
-              out << ' ' << static_cast<int>(r.status) << '\n';
+              out << ' ' << static_cast<int>(r.status);
+              if (heat)
+                {
+                  const double T = node_temperature(*heat, r);
+                  out << ' ' << T << ' ' << heat->wall_flux(id, T);
+                }
+              out << '\n';
             }
         file.commit();
       }
@@ -296,7 +318,7 @@ namespace dieflow
   write_die_profiles(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<3>> &,
                      const std::vector<dealii::SymmetricTensor<2, 3>> *, const HeatEquation<3> *, const std::string &);
   template void
-  write_die_surfaces(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<2>> &, const std::string &);
+  write_die_surfaces(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<2>> &, const HeatEquation<2> *, const std::string &);
   template void
-  write_die_surfaces(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<3>> &, const std::string &);
+  write_die_surfaces(const std::set<BoundaryId> &, const std::vector<ContactNodeResult<3>> &, const HeatEquation<3> *, const std::string &);
 } // namespace dieflow

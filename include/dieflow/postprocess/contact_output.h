@@ -63,12 +63,14 @@ namespace dieflow
   /**
    * 3D: one table per die id of the contact nodes (die-surface-ID.dat):
    * position, contact pressure, friction stress vector, normal and slip
-   * velocity, status; a die-surface field to plot or to map.
+   * velocity, status; with @p heat the metal's T at the node and the heat
+   * flux density into the die there; a die-surface field to plot or to map.
    */
   template <int dim>
   void
   write_die_surfaces(const std::set<BoundaryId> &               die_ids,
                      const std::vector<ContactNodeResult<dim>> &results,
+                     const HeatEquation<dim> *                  heat,
                      const std::string &                        directory);
 } // namespace dieflow
 
