@@ -1,14 +1,12 @@
 // The deck's Heat subsection: its entries, their units and their checks.
 #include <dieflow/heat/heat_parameters.h>
 
+#include <deal.II/base/utilities.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
-
-#include <deal.II/base/utilities.h>
-
-#include <cmath>
 
 namespace dieflow
 {
@@ -178,9 +176,16 @@ namespace dieflow
       return points.front().second;
     if (T >= points.back().first)
       return points.back().second;
-    const auto upper = std::upper_bound(points.begin(), points.end(), T, [](const double t, const auto &p) { return t < p.first; });
-    const auto lower = upper - 1;
+    const auto lower = segment(T), upper = lower + 1;
     return lower->second + (upper->second - lower->second) * (T - lower->first) / (upper->first - lower->first);
+  }
+
+
+
+  std::vector<std::pair<double, double>>::const_iterator
+  ThermalProperty::segment(const double T) const
+  {
+    return std::upper_bound(points.begin(), points.end(), T, [](const double t, const auto &p) { return t < p.first; }) - 1;
   }
 
 
@@ -190,9 +195,8 @@ namespace dieflow
   {
     if (T <= points.front().first || T >= points.back().first)
       return 0;
-    const auto upper = std::upper_bound(points.begin(), points.end(), T, [](const double t, const auto &p) { return t < p.first; });
-    const auto lower = upper - 1;
-    return (upper->second - lower->second) / (upper->first - lower->first);
+    const auto lower = segment(T);
+    return ((lower + 1)->second - lower->second) / ((lower + 1)->first - lower->first);
   }
 
 

@@ -122,12 +122,7 @@ namespace dieflow
           if (view.temperature != nullptr)
             temperature = view.temperature->values_at(points);
           if (view.strain_field != nullptr && view.material.hardens())
-            {
-              hardening = view.strain_field->values_at(points);
-              for (std::size_t i = 0; i < hardening.size(); ++i)
-                hardening[i] = view.material.hardening(std::max(hardening[i], 0.),
-                                                       temperature.empty() ? view.material.temperature : temperature[i]);
-            }
+            hardening = view.strain_field->hardening_at(points, &temperature);
           return std::make_pair(temperature, hardening);
         };
         const auto goal = dual_weighted_force_error(dof_handler, view.hanging_node_constraints, velocity, view.flow,

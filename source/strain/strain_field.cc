@@ -300,20 +300,29 @@ namespace dieflow
   void
   StrainField<dim>::update_flow_hardening()
   {
-    point_hardening    = values_at_points(dof_handler, strain, flow_quadrature);
+    point_hardening    = hardening_at(flow_quadrature, flow_temperatures);
     last.hardening_min = std::numeric_limits<double>::max();
     last.hardening_max = 0;
-    // A new mesh's temperatures are those of its points once the heat is set up on it.
-    const bool with_temperature = flow_temperatures != nullptr && flow_temperatures->size() == point_hardening.size();
-    for (std::size_t i = 0; i < point_hardening.size(); ++i)
+    for (const double value : point_hardening)
       {
-        double &value = point_hardening[i];
-        // eps_h may dip below 0 by a little near a steep rise (no maximum principle with SUPG).
-        value = material.hardening(std::max(value, 0.),
-                                   with_temperature ? (*flow_temperatures)[i] : material.temperature);
         last.hardening_min = std::min(last.hardening_min, value);
         last.hardening_max = std::max(last.hardening_max, value);
       }
+  }
+
+
+
+  template <int dim>
+  std::vector<double>
+  StrainField<dim>::hardening_at(const unsigned int points_per_direction, const std::vector<double> *temperatures) const
+  {
+    std::vector<double> factors = values_at_points(dof_handler, strain, points_per_direction);
+    // A new mesh's temperatures are those of its points once the heat is set up on it.
+    const bool with_temperature = temperatures != nullptr && temperatures->size() == factors.size();
+    for (std::size_t i = 0; i < factors.size(); ++i)
+      // eps_h may dip below 0 by a little near a steep rise (no maximum principle with SUPG).
+      factors[i] = material.hardening(std::max(factors[i], 0.), with_temperature ? (*temperatures)[i] : material.temperature);
+    return factors;
   }
 
 

@@ -27,14 +27,6 @@
 
 namespace dieflow
 {
-  /**
-   * What the temperature of a cycle reports (summary.json "heat"). The
-   * balance in W per mm of depth (plane strain) or W (axisymmetric, 3D),
-   * i.e. N mm/s / 1000: the heat made (beta sigma:D, the metal's share of
-   * the friction work) against the heat carried by the metal (int rho c
-   * v.grad T), lost through the parts with a heat transfer coefficient, and
-   * conducted out through the parts where T is prescribed (their reaction).
-   */
   /// A contact node's friction work -F_t.v_slip (N mm/s) at @p position on die @p die: a heat source at the die.
   template <int dim>
   struct FrictionWork
@@ -44,6 +36,14 @@ namespace dieflow
     BoundaryId         die;
   };
 
+  /**
+   * What the temperature of a cycle reports (summary.json "heat"). The
+   * balance in W per mm of depth (plane strain) or W (axisymmetric, 3D),
+   * i.e. N mm/s / 1000: the heat made (beta sigma:D, the metal's share of
+   * the friction work) against the heat carried by the metal (int rho c
+   * v.grad T), lost through the parts with a heat transfer coefficient, and
+   * conducted out through the parts where T is prescribed (their reaction).
+   */
   struct HeatRecord
   {
     /// Heat/Model = transient: the record of a step (stored, no outlet) rather than of a steady solve.

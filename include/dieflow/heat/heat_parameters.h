@@ -13,14 +13,6 @@
 namespace dieflow
 {
   /**
-   * The temperature field of the metal (subsection Heat). Units: the deck
-   * gives SI (kg/m^3, J/(kg K), W/(m K), W/(m^2 K)); the program works in
-   * mm, s, N and K, in which rho c is in N/(mm^2 K) (= 1e-6 rho[kg/m^3]
-   * c[J/(kg K)]), k in N/(s K) (= k[W/(m K)]) and h in N/(mm s K)
-   * (= 1e-3 h[W/(m^2 K)]), so that sigma:D (MPa/s = mW/mm^3) is a heat
-   * source without a factor.
-   */
-  /**
    * A thermal property of the metal as a function of T: a constant, or
    * linear between the points (T_i, p_i) of a table and constant beyond
    * its ends. integral(T) = int_0^T p(s) ds, exactly (piecewise
@@ -51,10 +43,21 @@ namespace dieflow
     }
 
   private:
+    /// The table's point that begins the segment holding @p T (inside the table).
+    std::vector<std::pair<double, double>>::const_iterator
+    segment(const double T) const;
     /// (T_i, p_i), ascending in T; one point for a constant (its T unused).
     std::vector<std::pair<double, double>> points = {{0., 0.}};
   };
 
+  /**
+   * The temperature field of the metal (subsection Heat). Units: the deck
+   * gives SI (kg/m^3, J/(kg K), W/(m K), W/(m^2 K)); the program works in
+   * mm, s, N and K, in which rho c is in N/(mm^2 K) (= 1e-6 rho[kg/m^3]
+   * c[J/(kg K)]), k in N/(s K) (= k[W/(m K)]) and h in N/(mm s K)
+   * (= 1e-3 h[W/(m^2 K)]), so that sigma:D (MPa/s = mW/mm^3) is a heat
+   * source without a factor.
+   */
   struct HeatParameters
   {
     enum class Model

@@ -152,12 +152,10 @@ namespace dieflow
     {
       return dof_handler.n_dofs();
     }
-    /// eps at QGauss(@p points_per_direction)'s points of each active cell (values_at_points()).
+    /// The hardening factor at QGauss(@p points_per_direction)'s points of each active cell (indexed as
+    /// values_at_points()) from the current eps, at @p temperatures there (Material/Temperature when null or of another size).
     std::vector<double>
-    values_at(const unsigned int points_per_direction) const
-    {
-      return values_at_points(dof_handler, strain, points_per_direction);
-    }
+    hardening_at(const unsigned int points_per_direction, const std::vector<double> *temperatures) const;
 
   private:
     /// The exit, the extremes, the errors and the vertex values of the solution just found.
