@@ -7,7 +7,10 @@
 // velocity degree 1 (one-point penalty) and 2 (the P1disc-projected penalty),
 // in plane strain and in the axisymmetric geometry (the hoop rate v_r/r
 // inside epsdot_eq and the divergence, the 2 pi r weights; the mesh touches
-// the axis y = 0, where the hoop terms are largest).
+// the axis y = 0, where the hoop terms are largest), and in 3D (a distorted
+// 3 x 2 x 2 box: the third shear rates and the 3D penalty projection).
+// Checked by breaking: the (0, 2) component of S^ = D/r zeroed in 3D fails
+// the 3D finite-difference and primal-dual checks at both degrees.
 #include <dieflow/flow/flow_assembler.h>
 #include <dieflow/mesh/geometry.h>
 
@@ -26,11 +29,12 @@ using namespace dieflow;
 
 namespace
 {
+  template <int dim>
   void
   check_law(const std::string &deck, const std::string &law_name, const unsigned int degree, const Geometry geometry)
   {
     const std::string name = (degree == 1 ? law_name : law_name + ", Q2") +
-                             (geometry == Geometry::axisymmetric ? ", axisymmetric" : "");
+                             (geometry == Geometry::axisymmetric ? ", axisymmetric" : "") + (dim == 3 ? ", 3D" : "");
     ParameterHandler prm;
     Material::declare_parameters(prm);
     prm.parse_input_from_string(deck);
@@ -39,14 +43,14 @@ namespace
 
     MeshParameters mesh;
     mesh.source = MeshParameters::Source::box;
-    mesh.box.lower = {0, 0};
-    mesh.box.upper = {3, 2};
-    mesh.box.subdivisions = {3, 2};
+    mesh.box.lower        = std::vector<double>(dim, 0.);
+    mesh.box.upper        = dim == 2 ? std::vector<double>{3, 2} : std::vector<double>{3, 2, 2};
+    mesh.box.subdivisions = dim == 2 ? std::vector<unsigned int>{3, 2} : std::vector<unsigned int>{3, 2, 2};
     mesh.box.distortion = 0.25;
-    dealii::Triangulation<2> triangulation;
+    dealii::Triangulation<dim> triangulation;
     make_mesh(mesh, triangulation);
-    dealii::FESystem<2> fe(dealii::FE_Q<2>(degree), 2);
-    DoFHandler<2>       dof_handler(triangulation);
+    dealii::FESystem<dim> fe(dealii::FE_Q<dim>(degree), dim);
+    DoFHandler<dim>       dof_handler(triangulation);
     dof_handler.distribute_dofs(fe);
     AffineConstraints<double> none;
     none.close();
@@ -64,11 +68,11 @@ namespace
         w[i] = std::cos(2.1 * i + 1.0);
       }
 
-    FlowAssembler<2> assembler(material, nullptr);
-    assembler.set_coordinate_system(CoordinateSystem<2>(geometry));
-    FlowTerms<2> terms;
+    FlowAssembler<dim> assembler(material, nullptr);
+    assembler.set_coordinate_system(CoordinateSystem<dim>(geometry));
+    FlowTerms<dim> terms;
     terms.penalty = 100 * material.evaluate(1.).eta;
-    assembler.set_tangent(FlowAssembler<2>::Tangent::standard);
+    assembler.set_tangent(FlowAssembler<dim>::Tangent::standard);
     assembler.assemble_system(dof_handler, v, terms, none, Linearization::newton, J, rhs, raw);
     J.vmult(Jw, w);
 
@@ -93,7 +97,7 @@ namespace
         asymmetry = std::max(asymmetry, std::abs(entry->value() - J.el(entry->column(), i)));
     report(name + ": tangent is symmetric", asymmetry < 1e-12 * J.linfty_norm());
 
-    assembler.set_tangent(FlowAssembler<2>::Tangent::primal_dual);
+    assembler.set_tangent(FlowAssembler<dim>::Tangent::primal_dual);
     assembler.update_dual(dof_handler, v, nullptr, 0);
     assembler.assemble_system(dof_handler, v, terms, none, Linearization::newton, J_pd, rhs, raw);
     J_pd.add(-1., J);
@@ -108,14 +112,20 @@ main()
   for (const Geometry geometry : {Geometry::plane_strain, Geometry::axisymmetric})
     for (const unsigned int degree : {1, 2})
       {
-        check_law("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\n"
+        check_law<2>("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\n"
                   " set Minimum strain rate = 1e-3\nend\n",
                   "Norton-Hoff m = 0.3",
                   degree,
                   geometry);
-        check_law("subsection Material\n set Law = Sellars-Tegart\n set Minimum strain rate = 1e-3\nend\n",
+        check_law<2>("subsection Material\n set Law = Sellars-Tegart\n set Minimum strain rate = 1e-3\nend\n",
                   "Sellars-Tegart",
                   degree,
                   geometry);
       }
+  for (const unsigned int degree : {1, 2})
+    check_law<3>("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\n"
+                 " set Minimum strain rate = 1e-3\nend\n",
+                 "Norton-Hoff m = 0.3",
+                 degree,
+                 Geometry::plane_strain);
 }
