@@ -46,6 +46,16 @@ quantities_agree(const dieflow::CycleSummary &a, const dieflow::CycleSummary &b,
   return same;
 }
 
+/// The whole text of @p file ("" if there is none).
+inline std::string
+file_contents(const std::string &file)
+{
+  std::ifstream     in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 /// Runs the deck @p text (written to deck.prm; results in results/, no VTU
 /// unless @p text sets Write VTU: an entry may be set only once).
 inline dieflow::RunSummary

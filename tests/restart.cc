@@ -85,15 +85,6 @@ namespace
     return run_deck(prm, ".", log != nullptr ? *log : swallowed);
   }
 
-  std::string
-  contents(const std::string &file)
-  {
-    std::ifstream     in(file);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-  }
-
   /// The rows of a load-stroke.txt (its lines that are no comment).
   unsigned int
   rows(const std::string &text)
@@ -156,8 +147,8 @@ main()
   report("the restarted run solved steps 31 to 50 only",
          rest.converged && rest.cycles.size() == 20 && rest.cycles.front().cycle == 31 && rest.restart_step == 30);
   report("load-stroke.txt of the restarted run is the uninterrupted run's (51 rows), byte for byte",
-         rows(contents("whole/load-stroke.txt")) == 51 &&
-           contents("rest/load-stroke.txt") == contents("whole/load-stroke.txt"));
+         rows(file_contents("whole/load-stroke.txt")) == 51 &&
+           file_contents("rest/load-stroke.txt") == file_contents("whole/load-stroke.txt"));
   report("platen force at 50 % the same to 1e-12",
          std::abs(platen_force(rest) / platen_force(whole) - 1) < 1e-12);
   report("the run's totals in summary.json the same (penetration, volume, shape, faces, new meshes)",
@@ -175,7 +166,7 @@ main()
            std::filesystem::exists("stopped/checkpoint.dat"));
   const RunSummary resumed = run(deck("resumed", 0.5, "stopped/checkpoint.dat"));
   report("going on from it gives the uninterrupted run's load-stroke.txt, byte for byte",
-         resumed.converged && contents("resumed/load-stroke.txt") == contents("whole/load-stroke.txt"));
+         resumed.converged && file_contents("resumed/load-stroke.txt") == file_contents("whole/load-stroke.txt"));
 
   refused("another time step", deck("bad", 0.5, "first/checkpoint.dat", 0.02), "first/checkpoint.dat");
   refused("no step after the checkpoint", deck("bad", 0.3, "first/checkpoint.dat"), "first/checkpoint.dat");
