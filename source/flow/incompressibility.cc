@@ -333,7 +333,7 @@ namespace dieflow
     // (forcing term 0.1); where the direct fallback would not fit, taking it
     // beats stopping (doc/benchmarks.md, "Figures behind the code's rules").
     const bool partial_step = !info.converged && info.residual_reduction <= 0.1 &&
-                              !LinearSolver::direct_fallback_fits(dim, matrix.m());
+                              !linear_solver.direct_fallback_fits(dim, matrix, symmetric);
     linear_solver.counts.add_block_solve(info.iterations, info.inner_iterations, info.residual_reduction, partial_step);
     std::ostringstream line;
     line << "           GMRES " << info.iterations << " iterations, residual " << std::scientific << std::setprecision(1)
@@ -359,7 +359,8 @@ namespace dieflow
     // contact projections' moves in the pressure, a residual some 1e9 too
     // large that turned the line search and the Picard step that followed
     // into a divergence (doc/benchmarks.md, "Figures behind the code's rules").
-    LinearSolver::require_direct_fallback_fits(dim, matrix.m());
+    // LU's room: the penalty form's symmetry is known after its assembly.
+    linear_solver.require_direct_fallback_fits(dim, matrix, false);
     ++linear_solver.counts.direct_fallbacks;
     FlowTerms<dim> penalty_form;
     penalty_form.penalty = lambda;

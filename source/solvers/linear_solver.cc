@@ -653,7 +653,7 @@ namespace dieflow
     counts.krylov_iterations += info.iterations;
     if (info.converged)
       return;
-    require_direct_fallback_fits(dim, matrix.m());
+    require_direct_fallback_fits(dim, matrix, symmetric);
     ++counts.direct_fallbacks;
     factorize(matrix, symmetric);
     solve(rhs, solution);
@@ -765,26 +765,39 @@ namespace dieflow
 
 
 
-  bool
-  LinearSolver::direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs)
+  double
+  LinearSolver::direct_fallback_bytes(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
     const double available = available_memory();
-    return available == 0 || direct_memory_estimate(dim, n_dofs) <= available;
+    if (available == 0 || direct_memory_estimate(dim, matrix.m()) < 0.25 * available)
+      return 0.;
+    suitesparse->analyse_pattern(matrix);
+    return suitesparse->factorisation_bytes(symmetric && parameters.direct_solver == LinearSolverParameters::DirectSolver::automatic);
+  }
+
+
+
+  bool
+  LinearSolver::direct_fallback_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric)
+  {
+    const double needed = direct_fallback_bytes(dim, matrix, symmetric);
+    return needed == 0 || needed <= available_memory();
   }
 
 
 
   void
-  LinearSolver::require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs)
+  LinearSolver::require_direct_fallback_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
-    if (direct_fallback_fits(dim, n_dofs))
+    const double needed    = direct_fallback_bytes(dim, matrix, symmetric);
+    const double available = available_memory();
+    if (needed == 0 || needed <= available)
       return;
-    const double       available = available_memory();
-    const double       needed    = direct_memory_estimate(dim, n_dofs);
     std::ostringstream message;
-    message << std::fixed << std::setprecision(1) << "the iterative linear solver did not converge, and its direct "
-            << "fallback for " << n_dofs << " unknowns would need about " << needed / 1e9 << " GB, more than the "
-            << available / 1e9 << " GB free: loosen Linear solver/Iterative tolerance, or solve a coarser mesh "
+    message << std::fixed << std::setprecision(2) << "the iterative linear solver did not converge, and its direct "
+            << "fallback for " << matrix.m() << " unknowns would need about " << needed / 1e9
+            << " GB (from CHOLMOD's analysis), more than the " << available / 1e9
+            << " GB free: loosen Linear solver/Iterative tolerance, or solve a coarser mesh "
             << "first and refine (Refinement/Cycles), so that each solve starts closer to its answer";
     throw ResourceFailure(message.str());
   }

@@ -235,13 +235,13 @@ namespace dieflow
 
     /**
      * Throws ResourceFailure, with the sizes, where the direct fallback of a
-     * failed iterative solve would need more memory than the machine has
-     * free (MemAvailable): a fallback that outgrows it is killed by the
-     * kernel, without a word
-     * (doc/benchmarks.md, "Figures behind the code's rules").
+     * failed iterative solve (of @p matrix, Cholesky where @p symmetric)
+     * would need more memory than is free (direct_fallback_fits()): factorize()
+     * would refuse it too, with advice for the direct method; this names the
+     * iterative solve's remedies.
      */
-    static void
-    require_direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
+    void
+    require_direct_fallback_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric);
 
     /**
      * Whether the direct solver's factorisations of @p matrix's pattern (a
@@ -253,11 +253,13 @@ namespace dieflow
     bool
     direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix);
 
-    /// Whether the direct fallback for @p n_dofs unknowns fits in the
-    /// memory free now (true where the free memory is not known), as
-    /// require_direct_fallback_fits() judges it.
-    static bool
-    direct_fallback_fits(const unsigned int dim, const std::size_t n_dofs);
+    /// Whether the direct fallback's factorisation of @p matrix (Cholesky
+    /// where @p symmetric) fits in the memory free now, by factorize()'s
+    /// rule (CHOLMOD's analysis of the pattern, asked only where the
+    /// measured estimate exceeds a quarter of the free memory; true where
+    /// the free memory is not known): one rule decides both.
+    bool
+    direct_fallback_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric);
 
     /// The memory free now, in bytes: the kernel's MemAvailable, but no
     /// more than the address space the process may still take (ulimit -v)
@@ -282,6 +284,10 @@ namespace dieflow
     /// LU) would need more memory than is free (see factorize()).
     void
     require_factorisation_fits(const bool cholesky);
+    /// The direct fallback's factorisation bytes from CHOLMOD's analysis; 0
+    /// where the measured estimate is below a quarter of the free memory.
+    double
+    direct_fallback_bytes(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric);
 
     struct SuiteSparse;
     std::unique_ptr<SuiteSparse> suitesparse;
