@@ -44,6 +44,9 @@ namespace
   void
   check(const std::string &normal_enforcement, const unsigned int degree)
   {
+    // 2D penalty: omega_t = lambda (factor 1, not 100), so that the penalty
+    // stick law (omega_t |v_t| <= mu |F_n|) holds some nodes of this field.
+    const std::string tangential_factor = "1";
     const std::string enforcement =
       (degree == 1 ? normal_enforcement : normal_enforcement + ", Q2") + (dim == 3 ? ", 3D" : "");
     const std::string deck_3d =
@@ -56,7 +59,7 @@ namespace
     declare_default_deck(prm);
     prm.parse_input_from_string("subsection Material\n set Law = Norton-Hoff\n set Rate sensitivity m = 0.3\nend\n"
                                 "subsection Contact\n set Normal enforcement = " +
-                                normal_enforcement + "\nend\n" + (dim == 3 ? deck_3d : ""));
+                                normal_enforcement + (dim == 2 && normal_enforcement == "penalty" ? "\n set Tangential penalty factor = " + tangential_factor : "") + "\nend\n" + (dim == 3 ? deck_3d : ""));
     Material material;
     material.parse_parameters(prm);
     BoundaryConditions<dim> bc;

@@ -162,7 +162,11 @@ namespace dieflow
     const double     rate     = slip_rate.norm();
     if (law.kind == FrictionLaw::Kind::regularised_coulomb)
       {
-        // F_t = mu F_n (2/pi) atan(|g_t|/v0) s: opposes the slip since F_n <= 0.
+        // F_t = mu F_n (2/pi) atan(|g_t|/v0) s: opposes the slip since F_n <= 0;
+        // none where the normal force pulls (F_n > 0), as for Coulomb below:
+        // there it would drive the slip.
+        if (normal_force >= 0)
+          return f;
         const double v0    = law.regularisation_velocity;
         const Slip   s     = unit_or<Slip>(slip_rate, direction);
         const double shape = 2. / M_PI * std::atan(rate / v0);

@@ -312,7 +312,8 @@ namespace dieflow
   bool
   ContactSet<dim>::sticks_exactly(const Node &node, const Direction &direction) const
   {
-    return parameters->stick_enforcement == ContactParameters::StickEnforcement::exact && !uses_penalty() && !direction.regularised && direction.active &&
+    return parameters->stick_enforcement == ContactParameters::StickEnforcement::exact && !uses_penalty() && !direction.regularised &&
+           parameters->law != FrictionLaw::Kind::regularised_coulomb && direction.active &&
            direction.status == ContactStatus::stick && node.n_held() < dim;
   }
 

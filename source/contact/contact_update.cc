@@ -137,6 +137,8 @@ namespace dieflow
     std::vector<Slip>   stick_forces;
     std::vector<std::pair<unsigned int, unsigned int>> changed_normal, changed_tangential; // (node, direction)
     const bool          penalty = uses_penalty();
+    // The stick is the penalty law F_t = -omega_t v_t (not a constraint).
+    const bool          penalty_stick = penalty || parameters->stick_enforcement == ContactParameters::StickEnforcement::penalty;
 
     // The active set's dead band: a direction changes its normal state only
     // when the rule p + c v.n > 0 is violated by more than 1e-6 of the
@@ -277,6 +279,15 @@ namespace dieflow
                     dir.stick_force :
                     ContactElement<dim>::friction(law, dir.status, dir.slip_direction, slip_rate, dir.normal_force).force;
                 state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
+                // The paper's penalty stick (eq. (16)) is the law F_t =
+                // -omega_t v_t inside the cone: a node sticks where omega_t
+                // |v_t| <= mu |F_n|, whatever force it carried (the penalty
+                // law's return mapping). The rule above (c = eta/h, for the
+                // exact law) keeps a slipping node slipping while it moves:
+                // with a soft omega_t it left nodes slipping at omega_t |v_t|
+                // below their bound (tests/couette_tangential_penalty_slip).
+                if (penalty_stick && law.kind != FrictionLaw::Kind::regularised_coulomb)
+                  state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, Slip::Zero(), law.tangential_penalty);
                 multiplier       = current;
                 multiplier_rate  = slip_rate;
                 multiplier_bound = law.bound(dir.normal_force);
@@ -309,7 +320,7 @@ namespace dieflow
               }
             else if (dir.active)
               state = std::make_pair(ContactStatus::stick, dir.slip_direction);
-            if (dir.regularised)
+            if (dir.regularised || law_of(dir).kind == FrictionLaw::Kind::regularised_coulomb)
               {
                 // A smooth law has no stick and no states to settle.
                 dir.status = dir.active ? ContactStatus::slip : ContactStatus::separated;
