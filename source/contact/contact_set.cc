@@ -456,6 +456,10 @@ namespace dieflow
                                           ContactElement<dim>::friction(law, dir.status, dir.slip_direction, slip, r.normal_force).force :
                                           Slip::Zero();
             r.friction_force = dir.element.in_space(friction);
+            r.friction_from_law =
+              dir.active && !sticks_exactly(node, dir) &&
+              ((dir.status == ContactStatus::slip && !(dim == 3 && law.multiplier.constant > 0)) ||
+               law.kind == FrictionLaw::Kind::regularised_coulomb);
             result.push_back(r);
           }
       }

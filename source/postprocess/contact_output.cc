@@ -39,6 +39,7 @@ namespace dieflow
     summary.friction_power = 0;
     summary.contact_penetration = summary.contact_tension = summary.friction_excess = summary.stick_slip_rate = 0;
     summary.separated_reaction = 0;
+    summary.friction_checked_nodes = 0;
     for (const auto &r : results)
       {
         summary.contact_penetration = std::max(summary.contact_penetration, r.normal_rate);
@@ -46,7 +47,11 @@ namespace dieflow
         if (r.status == ContactStatus::separated)
           continue;
         summary.contact_tension = std::max(summary.contact_tension, r.normal_force);
-        summary.friction_excess = std::max(summary.friction_excess, r.friction_force.norm() - r.friction_bound);
+        if (!r.friction_from_law)
+          {
+            summary.friction_excess = std::max(summary.friction_excess, r.friction_force.norm() - r.friction_bound);
+            ++summary.friction_checked_nodes;
+          }
         if (r.status == ContactStatus::stick)
           summary.stick_slip_rate = std::max(summary.stick_slip_rate, r.slip_velocity.norm());
         summary.friction_power = std::max(summary.friction_power, r.friction_force * r.slip_velocity);

@@ -99,6 +99,7 @@ namespace
         cycle["contact_penetration"] = s.contact_penetration;
         cycle["contact_tension"]     = s.contact_tension;
         cycle["friction_excess"]     = s.friction_excess;
+        cycle["friction_checked"]    = s.friction_checked_nodes;
         cycle["stick_slip_rate"]     = s.stick_slip_rate;
         cycle["separated_reaction"]  = s.separated_reaction;
         cycle["friction_power"]      = s.friction_power;

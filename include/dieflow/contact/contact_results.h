@@ -33,6 +33,12 @@ namespace dieflow
     /// The normal reaction where separated (must vanish at equilibrium).
     double free_reaction;
     double friction_bound;
+    /// Whether friction_force is the law's value on or below its bound by
+    /// construction (a slipping node's mu |F_n| outside the 3D semismooth
+    /// method, the regularised law): the friction check skips it, since
+    /// only a reaction (exact stick), the stick penalty or the semismooth
+    /// force can leave the cone.
+    bool friction_from_law = false;
   };
 
   /// Node counts of the contact state.

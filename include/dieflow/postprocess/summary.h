@@ -86,11 +86,15 @@ namespace dieflow
     std::map<BoundaryId, std::array<double, 3>> contact_length;
     /// Contact inequalities of the result, dimensionless (0 when exact):
     /// largest v.n > 0 over the largest speed; largest pulling normal force
-    /// over the largest normal force; largest |F_t| - bound over the largest
+    /// over the largest normal force; largest |F_t| - bound (at the nodes friction_checked_nodes counts) over the largest
     /// bound; largest |v.t| of a sticking node over the largest speed.
     double contact_penetration = 0;
     double contact_tension     = 0;
     double friction_excess     = 0;
+    /// The nodes friction_excess measured: those whose friction is a
+    /// reaction, a stick penalty or the 3D semismooth force (a slipping
+    /// node's friction is on its bound by construction).
+    unsigned int friction_checked_nodes = 0;
     double stick_slip_rate     = 0;
     /// Largest normal reaction at a separated node over the largest normal force.
     double separated_reaction  = 0;
