@@ -278,16 +278,17 @@ namespace dieflow
                   sticks_exactly(node, dir) ?
                     dir.stick_force :
                     ContactElement<dim>::friction(law, dir.status, dir.slip_direction, slip_rate, dir.normal_force).force;
-                state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
                 // The paper's penalty stick (eq. (16)) is the law F_t =
                 // -omega_t v_t inside the cone: a node sticks where omega_t
                 // |v_t| <= mu |F_n|, whatever force it carried (the penalty
-                // law's return mapping). The rule above (c = eta/h, for the
-                // exact law) keeps a slipping node slipping while it moves:
-                // with a soft omega_t it left nodes slipping at omega_t |v_t|
-                // below their bound (tests/couette_tangential_penalty_slip).
-                if (penalty_stick && law.kind != FrictionLaw::Kind::regularised_coulomb)
-                  state = ContactElement<dim>::decide(law, slip_rate, dir.normal_force, Slip::Zero(), law.tangential_penalty);
+                // law's return mapping). The exact law's rule (the carried
+                // force less c v_t, c = eta/h) keeps a slipping node slipping
+                // while it moves: with a soft omega_t it left nodes slipping
+                // at omega_t |v_t| below their bound
+                // (tests/couette_tangential_penalty_slip).
+                state = penalty_stick ?
+                          ContactElement<dim>::decide(law, slip_rate, dir.normal_force, Slip::Zero(), law.tangential_penalty) :
+                          ContactElement<dim>::decide(law, slip_rate, dir.normal_force, current, contact_constant(dir));
                 multiplier       = current;
                 multiplier_rate  = slip_rate;
                 multiplier_bound = law.bound(dir.normal_force);
@@ -320,7 +321,7 @@ namespace dieflow
               }
             else if (dir.active)
               state = std::make_pair(ContactStatus::stick, dir.slip_direction);
-            if (dir.regularised || law_of(dir).kind == FrictionLaw::Kind::regularised_coulomb)
+            if (dir.regularised || parameters->law == FrictionLaw::Kind::regularised_coulomb)
               {
                 // A smooth law has no stick and no states to settle.
                 dir.status = dir.active ? ContactStatus::slip : ContactStatus::separated;

@@ -483,6 +483,21 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// Whether a factorisation's memory must be asked of CHOLMOD's analysis:
+    /// the free memory is known and the measured estimate for @p n_dofs
+    /// unknowns is not far below it (a quarter), where it is too coarse to
+    /// decide (direct_fits, require_factorisation_fits, direct_fallback_bytes).
+    bool
+    analysis_needed(const unsigned int dim, const std::size_t n_dofs, const double available)
+    {
+      return available > 0 && LinearSolver::direct_memory_estimate(dim, n_dofs) >= 0.25 * available;
+    }
+  } // namespace
+
+
+
   double
   LinearSolver::available_memory()
   {
@@ -525,7 +540,7 @@ namespace dieflow
   LinearSolver::direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix)
   {
     const double available = available_memory();
-    if (available == 0 || direct_memory_estimate(dim, matrix.m()) < 0.25 * available)
+    if (!analysis_needed(dim, matrix.m(), available))
       return true;
     // Newton's systems on one mesh may take both kinds: a Cholesky factor
     // (kept for the next symmetric system) and an LU one; and the assembly
@@ -548,7 +563,7 @@ namespace dieflow
     // the analysis is not needed.
     auto &       s         = *suitesparse;
     const double available = available_memory();
-    if (available == 0 || direct_memory_estimate(3, s.n) < 0.25 * available)
+    if (!analysis_needed(3, s.n, available))
       return;
     const double needed = s.factorisation_bytes(cholesky);
     if (needed <= available)
@@ -568,7 +583,7 @@ namespace dieflow
   LinearSolver::direct_fallback_bytes(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
     const double available = available_memory();
-    if (available == 0 || direct_memory_estimate(dim, matrix.m()) < 0.25 * available)
+    if (!analysis_needed(dim, matrix.m(), available))
       return 0.;
     suitesparse->analyse_pattern(matrix);
     return suitesparse->factorisation_bytes(symmetric && parameters.direct_solver == LinearSolverParameters::DirectSolver::automatic);
