@@ -5,6 +5,7 @@
 #include <dieflow/base/threads.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <iomanip>
 #include <map>
 #include <filesystem>
@@ -280,6 +281,27 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// How many processes an MPI launcher started, and this one's rank,
+    /// from the launcher's environment (Open MPI's mpirun and MPICH's or
+    /// Slurm's PMI); {1, 0} when none did. Read, not asked of MPI: this
+    /// build initialises MPI only for Trilinos, and one process.
+    std::pair<unsigned long, unsigned long>
+    launched_processes()
+    {
+      for (const auto &[size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, {"PMI_SIZE", "PMI_RANK"}})
+        if (const char *n = std::getenv(size))
+          {
+            const char *r = std::getenv(rank);
+            return {std::strtoul(n, nullptr, 10), r ? std::strtoul(r, nullptr, 10) : 0};
+          }
+      return {1, 0};
+    }
+  } // namespace
+
+
+
   int
   run_command_line(int argc, char **argv)
   {
@@ -309,6 +331,17 @@ namespace dieflow
             return exit_converged;
           }
         require(argument.empty() || argument[0] != '-', "command line", "unknown option '" + argument + "'\n" + usage);
+        // Under mpirun -np P each process would run the whole deck and
+        // write the same files: one process refuses, for all of them.
+        if (const auto [processes, rank] = launched_processes(); processes > 1)
+          {
+            if (rank == 0)
+              std::cerr << "dieflow: error: command line: started as " << processes
+                        << " MPI processes; this version runs on one process (with threads, DEAL_II_NUM_THREADS): "
+                           "run it without mpirun, or with -np 1 (doc/parallel.md)"
+                        << std::endl;
+            return exit_bad_input;
+          }
 
         ParameterHandler prm;
         read_deck(argument, prm);
