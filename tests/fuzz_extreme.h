@@ -208,10 +208,12 @@ namespace fuzz
    * at least @p least_converged of them converged; then applies the
    * advice of each one that exits 2 (apply_advice()) and runs it again:
    * at least @p least_advised of those must converge. Decks before @p
-   * first are drawn but not run (a corpus split over two tests). With
-   * FUZZ_TABLE=file, also a Markdown row per deck (for doc/stress.md; the
-   * statuses are not printed here: which extreme deck converges may change
-   * with the round-off of another BLAS, the verdicts must not).
+   * first are drawn but not run (a corpus split over two tests).
+   * FUZZ_DECKS=dir writes each deck to dir/SEED-INDEX.prm (to rerun one by
+   * hand). With FUZZ_TABLE=file, also a Markdown row per deck (for
+   * doc/stress.md; the statuses are not printed here: which extreme deck
+   * converges may change with the round-off of another BLAS, the verdicts
+   * must not).
    */
   inline void
   run_extreme_corpus(unsigned int seed, unsigned int count, const unsigned int least_converged,
@@ -234,6 +236,9 @@ namespace fuzz
         if (i < first)
           continue; // drawn, run by another part
         std::filesystem::remove_all("fuzz-extreme");
+        // FUZZ_DECKS=dir writes each deck there, to rerun one by hand.
+        if (const char *dir = std::getenv("FUZZ_DECKS"))
+          std::ofstream(std::string(dir) + "/" + std::to_string(seed) + "-" + std::to_string(i) + ".prm") << deck.text();
         const Outcome     outcome = run("extreme.prm", deck.text());
         std::string       row;
         const std::string wrong   = judge(deck, outcome, row);
