@@ -9,6 +9,7 @@
 // (1e-6 relative; the iterative solves are inexact, so not to round-off),
 // the iterative run without falling back to the direct solver.
 #include "report.h"
+#include "round_bar.h"
 
 #include <cmath>
 #include <iostream>
@@ -21,16 +22,7 @@ namespace
   RunSummary
   quarter(const unsigned int degree, const std::string &method)
   {
-    return run_deck_text("set Dimension = 3\n"
-                         "subsection Mesh\n"
-                         "  set Source = round bar quarter\n"
-                         "  set Corner refinements = 0\n"
-                         "  subsection Die2d\n"
-                         "    set Inlet half height = 19\n    set Outlet half height = 4.75\n    set Die angle = 70\n"
-                         "    set Container length = 20\n    set Land length = 15\n"
-                         "    set Cells across = 4\n    set Grading exponent = 2.5\n"
-                         "  end\n"
-                         "end\n"
+    return run_deck_text("set Dimension = 3\n" + round_bar_mesh("round bar quarter") +
                          "subsection Material\n  set Law = Newtonian\n  set Viscosity = 0.278\nend\n"
                          "subsection Boundary conditions\n"
                          "  set Symmetry ids = 5\n  set Slip wall ids =\n  set Prescribed velocity ids = 1\n"

@@ -25,6 +25,7 @@
 #include <dieflow/problem/run.h>
 
 #include "report.h"
+#include "round_bar.h"
 
 #include <cmath>
 #include <iomanip>
@@ -40,16 +41,7 @@ namespace
   {
     return run_deck_text(
       std::string(quarter ? "set Dimension = 3\n" : "set Dimension = 2\nset Geometry = axisymmetric\n") +
-      "subsection Mesh\n"
-      "  set Source = " +
-      (quarter ? "round bar quarter" : "die2d") +
-      "\n  set Corner refinements = 0\n"
-      "  subsection Die2d\n"
-      "    set Inlet half height = 19\n    set Outlet half height = 4.75\n    set Die angle = 70\n"
-      "    set Container length = 20\n    set Land length = 15\n"
-      "    set Cells across = 4\n    set Grading exponent = 2.5\n"
-      "  end\n"
-      "end\n"
+      round_bar_mesh(quarter ? "round bar quarter" : "die2d") +
       "subsection Material\n  set Law = Newtonian\n  set Viscosity = 0.278\nend\n"
       "subsection Boundary conditions\n"
       "  set Symmetry ids = 5\n  set Slip wall ids =\n  set Prescribed velocity ids = 1\n"
