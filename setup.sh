@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-packages=(libdeal.ii-dev libeigen3-dev nlohmann-json3-dev numdiff cmake libopenblas0-pthread gnuplot-nox g++ make perl python3)
+packages=(libdeal.ii-dev libeigen3-dev nlohmann-json3-dev numdiff cmake libopenblas0-pthread gnuplot-nox g++ make perl python3 openmpi-bin)
 
 install_missing() {
   local missing=()

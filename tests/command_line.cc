@@ -4,8 +4,7 @@
 // at once with its message (this once hung: the file name in deal.II's
 // message was replaced by itself forever), and so does an output directory
 // that cannot be created (it once ended in an internal error, exit 3).
-// Started by an MPI launcher as more than one process (this version runs
-// on one), every process exits 1 and only the first says why.
+// Under mpirun -np 1 it runs as without a launcher.
 #include <dieflow/problem/run.h>
 
 #include "report.h"
@@ -62,24 +61,12 @@ main()
            unwritable.second.find("Output directory") != std::string::npos);
   std::cout << unwritable.second;
 
-  // What Open MPI's mpirun -np 2 sets for its processes (and MPICH's PMI).
-  setenv("OMPI_COMM_WORLD_SIZE", "2", 1);
-  setenv("OMPI_COMM_WORLD_RANK", "0", 1);
-  const auto first = run({"dieflow", "no-such-deck.prm"});
-  report("as the first of 2 MPI processes: exit 1 with one line naming them", first.first == 1 && one_line(first.second) &&
-                                                                            first.second.find("2 MPI processes") != std::string::npos);
-  std::cout << first.second;
-  setenv("OMPI_COMM_WORLD_RANK", "1", 1);
-  const auto second = run({"dieflow", "no-such-deck.prm"});
-  report("as the second: exit 1, silent", second.first == 1 && second.second.empty());
+  // What Open MPI's mpirun -np 1 sets: one process runs as without a
+  // launcher (MPI is not started; tests/mpi_processes runs more).
   setenv("OMPI_COMM_WORLD_SIZE", "1", 1);
   setenv("OMPI_COMM_WORLD_RANK", "0", 1);
   report("as the only process (mpirun -np 1): the deck is read as without mpirun",
          run({"dieflow", "no-such-deck.prm"}) == missing);
   unsetenv("OMPI_COMM_WORLD_SIZE");
   unsetenv("OMPI_COMM_WORLD_RANK");
-  setenv("PMI_SIZE", "3", 1);
-  setenv("PMI_RANK", "0", 1);
-  const auto pmi = run({"dieflow", "no-such-deck.prm"});
-  report("under MPICH's launcher, 3 processes: the same refusal", pmi.first == 1 && pmi.second.find("3 MPI processes") != std::string::npos);
 }

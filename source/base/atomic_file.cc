@@ -1,5 +1,6 @@
 // An output file that a reader sees whole or not at all: written under PATH.partial and renamed to PATH when complete.
 #include <dieflow/base/atomic_file.h>
+#include <dieflow/base/processes.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -10,8 +11,22 @@ namespace dieflow
   AtomicFile::AtomicFile(const std::string &path)
     : path(path)
     , partial(path + ".partial")
-    , out(partial)
-  {}
+  {
+    // On more than one process the first writes the files; the others'
+    // streams take nothing (processes.h).
+    if (processes::writes_output())
+      out.open(partial);
+    else
+      committed = true;
+  }
+
+
+
+  std::ostream &
+  AtomicFile::stream()
+  {
+    return processes::writes_output() ? static_cast<std::ostream &>(out) : processes::null_stream();
+  }
 
 
 
@@ -30,6 +45,8 @@ namespace dieflow
   void
   AtomicFile::commit()
   {
+    if (!processes::writes_output())
+      return;
     out.close();
     std::error_code error;
     if (!out)

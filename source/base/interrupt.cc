@@ -1,5 +1,6 @@
 // SIGINT and SIGTERM: the first ends a run cleanly after its current iteration, with its results; a second ends it at once.
 #include <dieflow/base/interrupt.h>
+#include <dieflow/base/processes.h>
 
 #include <csignal>
 #include <unistd.h>
@@ -44,6 +45,16 @@ namespace dieflow
     bool
     requested()
     {
+      // A signal reaches the processes of a run at different times: each
+      // check asks all of them, so that they stop at the same iteration.
+      // The agreed signal is the one that stopped the run.
+      if (processes::n() > 1)
+        {
+          int signal = received;
+          MPI_Allreduce(MPI_IN_PLACE, &signal, 1, MPI_INT, MPI_MAX, processes::communicator());
+          if (signal != 0 && received == 0)
+            received = signal;
+        }
       return received != 0;
     }
 

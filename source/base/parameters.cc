@@ -1,4 +1,5 @@
 // Reading a deck: InputError, the checks of entries and of the output directory, the parsers of id lists and maps, numbers for messages.
+#include <dieflow/base/processes.h>
 #include <dieflow/base/parameters.h>
 
 #include <deal.II/base/exceptions.h>
@@ -24,7 +25,9 @@ namespace dieflow
     require(std::filesystem::is_directory(directory, error),
             "Output directory",
             "'" + directory + "' is not a directory");
-    const std::filesystem::path probe = std::filesystem::path(directory) / ".dieflow-write-check";
+    // One probe per process: processes started together test the same directory.
+    const std::filesystem::path probe =
+      std::filesystem::path(directory) / (".dieflow-write-check" + std::to_string(processes::rank()));
     const bool                  writable = static_cast<bool>(std::ofstream(probe));
     std::filesystem::remove(probe, error);
     require(writable, "Output directory", "cannot write in '" + directory + "' (read-only or no permission)");

@@ -1,4 +1,5 @@
 // How many threads the assembly runs on, with deal.II's arithmetic fixed to one width so that the results do not depend on it.
+#include <dieflow/base/processes.h>
 #include <dieflow/base/threads.h>
 
 #include <deal.II/base/multithread_info.h>
@@ -32,7 +33,8 @@ namespace dieflow
           if (end != value && *end == '\0' && n > 0)
             return static_cast<unsigned int>(n);
         }
-      return dealii::MultithreadInfo::n_cores();
+      // The processes of an MPI run on this machine share its cores.
+      return std::max(1u, dealii::MultithreadInfo::n_cores() / processes::on_this_machine());
     }
 
 

@@ -1,4 +1,5 @@
 // The flow's cell terms: the residual and the Jacobian (standard or primal-dual Newton) of the penalised velocity problem, with its loads.
+#include <dieflow/base/processes.h>
 #include <dieflow/flow/flow_assembler.h>
 #include <dieflow/flow/pressure_projection.h>
 
@@ -236,6 +237,7 @@ namespace dieflow
     const bool use_dual = (tangent == Tangent::primal_dual) && dual.size() == n_dual_points(dof_handler);
 
     Assert(mixed == nullptr || fe.degree >= 2, dealii::ExcMessage("The mixed form needs the stable pair (degree 2)."));
+    AssertThrow(mixed == nullptr || processes::n() == 1, dealii::ExcMessage("The mixed form is not distributed."));
     if (matrix != nullptr)
       *matrix = 0;
     if (mixed != nullptr)
@@ -248,6 +250,12 @@ namespace dieflow
     const auto worker = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
                             ScratchData<dim> &                                    scratch,
                             CopyData &                                            copy) {
+      // Another process's cell: summed in from that process below.
+      if (!processes::owns(cell))
+        {
+          copy.dofs.clear();
+          return;
+        }
       copy.dofs.resize(dofs_per_cell);
       cell->get_dof_indices(copy.dofs);
       copy.residual.reinit(dofs_per_cell);
@@ -352,6 +360,8 @@ namespace dieflow
     };
 
     const auto copier = [&](const CopyData &copy) {
+      if (copy.dofs.empty())
+        return;
       for (unsigned int i = 0; i < copy.dofs.size(); ++i)
         raw_residual[copy.dofs[i]] += copy.residual[i];
       Vector<double>                    minus_residual(copy.residual);
@@ -392,6 +402,12 @@ namespace dieflow
                             copier,
                             ScratchData<dim>(fe, coordinates),
                             CopyData());
+    // Each process assembled its own cells: the sums are the whole system,
+    // on every process (processes.h).
+    if (matrix != nullptr)
+      processes::sum(*matrix);
+    processes::sum(rhs);
+    processes::sum(raw_residual);
   }
 
 

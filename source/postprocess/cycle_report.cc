@@ -1,4 +1,5 @@
 // The report of a converged cycle: forces, fluxes, checks, errors, quantities of interest and the output files, from a read-only view of the solution.
+#include <dieflow/base/processes.h>
 #include <dieflow/base/parameters.h>
 #include <dieflow/base/serialization.h>
 #include <dieflow/flow/pressure_projection.h>
@@ -270,7 +271,7 @@ namespace dieflow
                    settings.write_vtu,
                    settings.write_gnuplot,
                    pvd_records);
-    if (settings.write_mesh_svg)
+    if (settings.write_mesh_svg && processes::writes_output())
       {
         std::ofstream svg(settings.output_directory + "/mesh-" + dealii::Utilities::int_to_string(summary.cycle, 2) +
                           ".svg");

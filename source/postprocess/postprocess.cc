@@ -1,6 +1,7 @@
 // What a solution gives: the boundary parts' fluxes, areas and forces, errors against an exact velocity, and the fields written to files.
 #include <dieflow/flow/pressure_projection.h>
 #include <dieflow/base/atomic_file.h>
+#include <dieflow/base/processes.h>
 #include <dieflow/postprocess/postprocess.h>
 #include <dieflow/postprocess/vertex_stress.h>
 
@@ -687,14 +688,17 @@ namespace dieflow
     const std::string stem = "solution-" + dealii::Utilities::int_to_string(cycle, 2);
     if (vtu)
       {
-        std::ofstream out(directory + "/" + stem + ".vtu");
-        data_out.write_vtu(out);
+        if (processes::writes_output())
+          {
+            std::ofstream out(directory + "/" + stem + ".vtu");
+            data_out.write_vtu(out);
+          }
         pvd_records.emplace_back(record_time, stem + ".vtu");
         AtomicFile pvd(directory + "/solution.pvd");
         dealii::DataOutBase::write_pvd_record(pvd.stream(), pvd_records);
         pvd.commit();
       }
-    if (gnuplot)
+    if (gnuplot && processes::writes_output())
       {
         std::ofstream out(directory + "/" + stem + ".gnuplot");
         data_out.write_gnuplot(out);

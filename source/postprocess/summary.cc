@@ -209,6 +209,7 @@ namespace dieflow
         json["incremental"] = std::move(incremental);
       }
     json["peak_memory_mb"]  = number(summary.peak_memory_mb);
+    json["processes"]       = summary.processes;
     json["threads"]         = summary.threads;
     json["stage_wall_time"] = object(summary.stage_wall_time, number);
     // References into json only while no key is added to it (ordered_json keeps its keys in a vector).

@@ -1,4 +1,5 @@
 // The die-flow problem's run: the cycles (refinement cycles, or steps in time), each solved, reported and judged.
+#include <dieflow/base/processes.h>
 #include <dieflow/base/atomic_file.h>
 #include <dieflow/base/interrupt.h>
 #include <dieflow/base/threads.h>
@@ -330,6 +331,9 @@ namespace dieflow
     dealii::Utilities::System::MemoryStats memory;
     dealii::Utilities::System::get_memory_stats(memory);
     summary.peak_memory_mb = memory.VmHWM / 1024.;
+    if (processes::n() > 1)
+      MPI_Allreduce(MPI_IN_PLACE, &summary.peak_memory_mb, 1, MPI_DOUBLE, MPI_MAX, processes::communicator());
+    summary.processes      = processes::n();
     summary.threads        = threads::running();
     write_summary_json(summary, parameters.run.output_directory + "/summary.json");
 
@@ -337,8 +341,10 @@ namespace dieflow
     log << "wall time " << std::fixed << std::setprecision(3) << summary.wall_time << " s:";
     for (const auto &[stage, seconds] : summary.stage_wall_time)
       log << ' ' << stage << ' ' << seconds;
-    log << "; peak memory " << std::setprecision(1) << summary.peak_memory_mb << " MB; " << summary.threads
-        << (summary.threads == 1 ? " thread" : " threads") << std::defaultfloat << std::setprecision(6) << std::endl;
+    log << "; peak memory " << std::setprecision(1) << summary.peak_memory_mb << " MB"
+        << (summary.processes > 1 ? " (the largest process's); " + std::to_string(summary.processes) + " processes of " : "; ")
+        << summary.threads << (summary.threads == 1 ? " thread" : " threads") << std::defaultfloat << std::setprecision(6)
+        << std::endl;
   }
 
 #define DIEFLOW_INSTANTIATE(dim)                                                                                       \

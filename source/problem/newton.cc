@@ -1,4 +1,5 @@
 // The die-flow problem as Newton's method sees it: the state update, the assembly, the solve and the step of one iteration, and the Newtonian start.
+#include <dieflow/base/processes.h>
 #include <dieflow/problem/problem.h>
 
 #include <deal.II/grid/grid_tools.h>
@@ -41,11 +42,15 @@ namespace dieflow
   DieFlowProblem<dim>::assemble_system(const Vector<double> &v, const Linearization linearization)
   {
     dealii::TimerOutput::Scope scope(timer, "assembly");
+    processes::require_same(v, "a Newton iteration's assembly");
     incompressibility.prepare_assembly(v, linearization);
     const FlowTerms<dim> terms = flow_terms();
     matrix_symmetric           = system.assemble(v, terms, linearization, &system_matrix, system_rhs).symmetric;
     last_roundoff_bound        = system.roundoff_bound(system_matrix, v, terms.mixed);
-    return system.relative_residual(system_rhs);
+    const double relative      = system.relative_residual(system_rhs);
+    // Newton's decisions read it: the same on every process.
+    processes::require_same(dealii::Vector<double>{relative, last_roundoff_bound}, "a Newton iteration's residual");
+    return relative;
   }
 
 
@@ -56,7 +61,9 @@ namespace dieflow
   {
     dealii::TimerOutput::Scope scope(timer, "assembly");
     system.assemble(v, flow_terms(), Linearization::picard, nullptr, minus_residual);
-    return system.relative_residual(minus_residual);
+    const double relative = system.relative_residual(minus_residual);
+    processes::require_same(dealii::Vector<double>{relative}, "a line search's residual");
+    return relative;
   }
 
 

@@ -1,5 +1,6 @@
 // The program's command line: reading and checking a deck, running it, the one-line error messages, and the exit statuses.
 #include <dieflow/base/interrupt.h>
+#include <dieflow/base/processes.h>
 #include <dieflow/problem/problem.h>
 #include <dieflow/problem/run.h>
 #include <dieflow/base/threads.h>
@@ -281,24 +282,6 @@ namespace dieflow
 
 
 
-  namespace
-  {
-    /// How many processes an MPI launcher started, and this one's rank,
-    /// from the launcher's environment (Open MPI's mpirun and MPICH's or
-    /// Slurm's PMI); {1, 0} when none did. Read, not asked of MPI: this
-    /// build initialises MPI only for Trilinos, and one process.
-    std::pair<unsigned long, unsigned long>
-    launched_processes()
-    {
-      for (const auto &[size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, {"PMI_SIZE", "PMI_RANK"}})
-        if (const char *n = std::getenv(size))
-          {
-            const char *r = std::getenv(rank);
-            return {std::strtoul(n, nullptr, 10), r ? std::strtoul(r, nullptr, 10) : 0};
-          }
-      return {1, 0};
-    }
-  } // namespace
 
 
 
@@ -321,6 +304,10 @@ namespace dieflow
         std::cout << usage;
         return exit_converged;
       }
+    // Under mpirun -np P the processes run the deck together
+    // (processes.h); the first writes the files and the screen lines.
+    const processes::Session session;
+    const bool               first = processes::writes_output();
     try
       {
         if (argument == "--print-parameters")
@@ -331,29 +318,22 @@ namespace dieflow
             return exit_converged;
           }
         require(argument.empty() || argument[0] != '-', "command line", "unknown option '" + argument + "'\n" + usage);
-        // Under mpirun -np P each process would run the whole deck and
-        // write the same files: one process refuses, for all of them.
-        if (const auto [processes, rank] = launched_processes(); processes > 1)
-          {
-            if (rank == 0)
-              std::cerr << "dieflow: error: command line: started as " << processes
-                        << " MPI processes; this version runs on one process (with threads, DEAL_II_NUM_THREADS): "
-                           "run it without mpirun, or with -np 1 (doc/parallel.md)"
-                        << std::endl;
-            return exit_bad_input;
-          }
+        std::ostream &out = first ? std::cout : processes::null_stream();
 
         ParameterHandler prm;
         read_deck(argument, prm);
-        std::cout << "dieflow: " << argument << std::endl;
+        out << "dieflow: " << argument;
+        if (processes::n() > 1)
+          out << " (" << processes::n() << " MPI processes, " << threads::requested() << " threads each)";
+        out << std::endl;
         interrupt::install_handlers();
         threads::use(threads::requested());
         const RunSummary summary =
-          run_deck(prm, std::filesystem::path(argument).parent_path().string(), std::cout);
+          run_deck(prm, std::filesystem::path(argument).parent_path().string(), out);
         const std::string results = prm.get("Output directory") + "/ (summary.json" +
                                     (prm.get_bool("Write VTU") ? ", solution.pvd)" : ")");
         if (summary.interrupted)
-          std::cout << "INTERRUPTED: " << summary.failure << "; the results so far are in " << results
+          out << "INTERRUPTED: " << summary.failure << "; the results so far are in " << results
                     << ", summary.json marked \"interrupted\": true. "
                     << (summary.checkpoint_file.empty() ?
                           std::string(summary.problem == "steady" ?
@@ -364,26 +344,35 @@ namespace dieflow
                             " and run the deck again")
                     << std::endl;
         else
-          std::cout << (summary.converged ? "converged" : "NOT converged: " + summary.failure) << "; results in "
+          out << (summary.converged ? "converged" : "NOT converged: " + summary.failure) << "; results in "
                     << results << ", wall time " << std::fixed << std::setprecision(2) << summary.wall_time << " s"
                     << std::defaultfloat << std::endl;
         return summary.converged ? exit_converged : exit_not_converged;
       }
+    // The deck's errors are every process's (they read the same deck): the
+    // first says so.
     catch (const InputError &error)
       {
-        std::cerr << "dieflow: error: " << error.what() << std::endl;
+        if (first)
+          std::cerr << "dieflow: error: " << error.what() << std::endl;
         return exit_bad_input;
       }
     catch (const dealii::ExceptionBase &exc)
       {
         // ParameterHandler reports unknown entries, bad values and syntax
         // errors of the deck through deal.II exceptions.
-        std::cerr << "dieflow: error: " << deck_error_message(exc, argument) << std::endl;
+        if (first)
+          std::cerr << "dieflow: error: " << deck_error_message(exc, argument) << std::endl;
         return exit_bad_input;
       }
     catch (const std::exception &exc)
       {
-        std::cerr << "dieflow: internal error: " << one_line_message(exc) << std::endl;
+        // Perhaps this process's alone, the others waiting for it: it ends them.
+        std::cerr << "dieflow: internal error: " << one_line_message(exc)
+                  << (processes::n() > 1 ? " (MPI process " + std::to_string(processes::rank()) + ")" : std::string())
+                  << std::endl;
+        if (processes::n() > 1)
+          MPI_Abort(processes::communicator(), exit_internal);
         return exit_internal;
       }
   }

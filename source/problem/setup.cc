@@ -1,4 +1,5 @@
 // The die-flow problem's set-up: the deck and the mesh, and for each mesh its dofs, constraints and system.
+#include <dieflow/base/processes.h>
 #include <dieflow/mesh/singular_points.h>
 #include <dieflow/problem/problem.h>
 
@@ -30,6 +31,26 @@ namespace dieflow
       if (!parameters.boundary_conditions.velocity_ids.empty() || !parameters.contact.die_velocities.empty())
         settings.goal_part = parameters.goal_part();
       return settings;
+    }
+
+    /// Refuses, on more than one process, what is not yet distributed (doc/parallel.md).
+    template <int dim>
+    void
+    check_processes(const ProblemParameters<dim> &parameters, const dealii::Triangulation<dim> &triangulation)
+    {
+      const std::string processes_started = std::to_string(processes::n()) + " MPI processes";
+      require(!parameters.time_stepping.incremental,
+              "Problem",
+              "incremental runs are not yet distributed (the remeshing, the transfer of fields and the checkpoint): "
+              "run this deck on one process, without mpirun (started as " + processes_started + ", doc/parallel.md)");
+      require(parameters.linear_solver.method != LinearSolverParameters::Method::iterative,
+              "Linear solver/Method",
+              "the iterative solvers are not yet distributed: set Method = direct or auto (across processes both "
+              "factorise with MUMPS), or run on one process (started as " + processes_started + ", doc/parallel.md)");
+      require(triangulation.n_active_cells() >= 2 * processes::n(),
+              "Mesh",
+              std::to_string(triangulation.n_active_cells()) + " cells for " + processes_started +
+                ": each process needs at least two cells to assemble; run on fewer processes or refine the mesh");
     }
   } // namespace
 
@@ -86,6 +107,8 @@ namespace dieflow
                       triangulation);
       }
     parameters.check_graded_mesh(triangulation, log);
+    if (processes::n() > 1)
+      check_processes(parameters, triangulation);
   }
 
 
@@ -96,6 +119,8 @@ namespace dieflow
   {
     dealii::TimerOutput::Scope scope(timer, "setup");
     const auto &               bc = parameters.boundary_conditions;
+    // Which cells this process assembles (all of them on one).
+    processes::partition(triangulation);
     dof_handler.distribute_dofs(fe);
 
     hanging_node_constraints.clear();

@@ -1,4 +1,6 @@
 // The linear solves of the Newton systems: CHOLMOD or UMFPACK reused per mesh, the iterative path and its direct fallback, and their memory (the entries: linear_solver_parameters.cc).
+#include <dieflow/base/processes.h>
+#include <dieflow/solvers/distributed_direct_solver.h>
 #include <dieflow/solvers/linear_solver.h>
 
 #include <suitesparse/cholmod.h>
@@ -335,6 +337,8 @@ namespace dieflow
   void
   LinearSolver::reset()
   {
+    if (distributed)
+      distributed->reset();
     suitesparse->free_factorisations();
     suitesparse->pattern_known = false;
   }
@@ -344,6 +348,18 @@ namespace dieflow
   void
   LinearSolver::factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
+    if (processes::n() > 1)
+      {
+        // Across the processes: MUMPS's LU (its memory divided among them,
+        // which the serial path's estimate and cap do not describe).
+        if (!distributed)
+          distributed = std::make_unique<DistributedDirectSolver>();
+        const bool analysed = distributed->has_factorisation();
+        distributed->factorize(matrix);
+        counts.symbolic_analyses += analysed ? 0 : 1;
+        ++counts.lu_factorisations;
+        return;
+      }
     auto &s = *suitesparse;
     s.analyse_pattern(matrix);
     s.copy_values(matrix);
@@ -390,6 +406,11 @@ namespace dieflow
   void
   LinearSolver::solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution, const bool transpose)
   {
+    if (processes::n() > 1)
+      {
+        distributed->solve(rhs, solution, transpose);
+        return;
+      }
     auto &s = *suitesparse;
     solution.reinit(rhs.size());
     if (s.last_was_cholesky)
@@ -422,6 +443,8 @@ namespace dieflow
   bool
   LinearSolver::has_factorisation() const
   {
+    if (processes::n() > 1)
+      return distributed && distributed->has_factorisation();
     const auto &s = *suitesparse;
     return s.pattern_known && (s.last_was_cholesky ? s.factor != nullptr : s.numeric != nullptr);
   }
@@ -539,6 +562,9 @@ namespace dieflow
   bool
   LinearSolver::direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix)
   {
+    // Across processes the only solver is the direct one (doc/parallel.md).
+    if (processes::n() > 1)
+      return true;
     const double available = available_memory();
     if (!analysis_needed(dim, matrix.m(), available))
       return true;
@@ -621,6 +647,8 @@ namespace dieflow
   std::string
   LinearSolver::last_solver() const
   {
+    if (processes::n() > 1)
+      return "MUMPS";
     return suitesparse->last_was_cholesky ? "CHOLMOD" : "UMFPACK";
   }
 } // namespace dieflow

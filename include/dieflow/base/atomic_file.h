@@ -23,11 +23,9 @@ namespace dieflow
     AtomicFile &
     operator=(const AtomicFile &) = delete;
 
+    /// The file's stream; on an MPI process other than the first, one that writes nothing (processes.h).
     std::ostream &
-    stream()
-    {
-      return out;
-    }
+    stream();
 
     /// Closes the file and renames it into place; a std::runtime_error
     /// naming the file if it could not be written.

@@ -180,8 +180,10 @@ namespace dieflow
     std::string               geometry = "plane strain";
     /// Wall time (s) per stage: setup, assembly, linear solve, postprocess, refinement.
     std::map<std::string, double> stage_wall_time;
-    /// Peak resident memory of the process (MB).
+    /// Peak resident memory of the process (MB); on more than one, the largest process's.
     double peak_memory_mb = 0;
+    /// The MPI processes of the run (processes.h).
+    unsigned int processes = 1;
     /// The threads the assembly ran on (threads.h; the results do not depend on it).
     unsigned int threads = 1;
     /// Richardson estimates of the quantities (study.h).

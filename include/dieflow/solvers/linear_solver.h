@@ -15,6 +15,8 @@
 
 namespace dieflow
 {
+  class DistributedDirectSolver;
+
   /// The address space this process maps now (VmSize), in bytes; 0 if unknown.
   double
   mapped_memory();
@@ -293,6 +295,8 @@ namespace dieflow
     std::unique_ptr<SuiteSparse> suitesparse;
     /// Made on first use: Trilinos needs MPI initialised (the direct path does not).
     std::unique_ptr<IterativeSolver> iterative_solver;
+    /// Made on first use on more than one process (processes.h).
+    std::unique_ptr<DistributedDirectSolver> distributed;
   };
 } // namespace dieflow
 

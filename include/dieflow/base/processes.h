@@ -1,0 +1,124 @@
+// The MPI processes of a run: who this one is, which cells it assembles, and the sums that keep the replicated state the same bits on every process.
+#ifndef dieflow_processes_h
+#define dieflow_processes_h
+
+#include <deal.II/base/types.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <mpi.h>
+
+#include <ostream>
+#include <utility>
+
+namespace dieflow
+{
+  /**
+   * A run on P processes (doc/parallel.md). Every process holds the whole
+   * mesh and the whole state (the velocity, the contact set, the free
+   * surface, the report's fields), and runs the same algorithm on it; what
+   * is divided is the expensive part of a Newton iteration:
+   *  - the flow's cell terms (FlowAssembler): each process assembles the
+   *    cells of its METIS part (partition()), and the partial systems are
+   *    summed (sum()), so every process holds the whole system again;
+   *  - the linear solve: the direct solver factorises across processes
+   *    (MUMPS, DistributedDirectSolver), each owning a block of rows.
+   * Every sum is reduced on the first process and broadcast from it, so
+   * every process holds the same bits and takes the same decisions (a
+   * contact state, a line-search step, the end of a cycle) without further
+   * communication. Only the first process writes files and the log.
+   *
+   * With one process (the default, no launcher) none of this runs, and MPI
+   * is not initialised (the iterative solver's Trilinos initialises it on
+   * first use).
+   */
+  namespace processes
+  {
+    /// How many processes a launcher started, and this one's rank, from its
+    /// environment (Open MPI's mpirun; MPICH's or Slurm's PMI); {1, 0} when none did.
+    std::pair<unsigned int, unsigned int>
+    launched();
+
+    /// The processes on this machine (Open MPI's local size; else launched()'s).
+    unsigned int
+    on_this_machine();
+
+    /**
+     * MPI and PETSc for the lifetime of a run on more than one process:
+     * MPI_Init_thread (threads call no MPI: funnelled), PETSc without its
+     * signal handlers (the program's own SIGINT/SIGTERM handling stays);
+     * finalised in reverse order. With one process it does nothing.
+     */
+    class Session
+    {
+    public:
+      Session();
+      ~Session();
+      Session(const Session &) = delete;
+      Session &
+      operator=(const Session &) = delete;
+
+    private:
+      bool started = false;
+    };
+
+    /// The processes of this run (1 without a Session), and this one's rank.
+    unsigned int
+    n();
+    unsigned int
+    rank();
+
+    /// Whether this process writes the files and the log (the first).
+    bool
+    writes_output();
+
+    /// A stream that takes everything and writes nothing, its state good
+    /// (what the other processes write their files and log to).
+    std::ostream &
+    null_stream();
+
+    /// The run's communicator (MPI_COMM_WORLD).
+    MPI_Comm
+    communicator();
+
+    /// Sums over the processes, the result the same bits on every process.
+    void
+    sum(dealii::Vector<double> &v);
+    void
+    sum(dealii::SparseMatrix<double> &matrix);
+
+    /**
+     * Throws std::logic_error naming @p where unless every process holds
+     * the same bits of @p v (a hash of them compared across processes).
+     * The replicated state must be the same everywhere: processes that
+     * disagreed would take different decisions and wait in different
+     * collectives for ever; this ends the run instead (run.cc aborts it).
+     */
+    void
+    require_same(const dealii::Vector<double> &v, const char *where);
+
+    /// Whether any process says yes (for signals, which reach processes at different times).
+    bool
+    any(const bool yes);
+
+    /**
+     * Divides the active cells among the processes with METIS (on the
+     * first process, broadcast, so the parts agree), as their subdomain
+     * ids. With one process, every cell is in part 0.
+     */
+    template <int dim>
+    void
+    partition(dealii::Triangulation<dim> &triangulation);
+
+    /// Whether this process assembles @p cell (its part).
+    template <typename CellIterator>
+    bool
+    owns(const CellIterator &cell)
+    {
+      return n() == 1 || cell->subdomain_id() == rank();
+    }
+  } // namespace processes
+} // namespace dieflow
+
+#endif

@@ -1,0 +1,241 @@
+// The MPI processes of a run: who this one is, which cells it assembles, and the sums that keep the replicated state the same bits on every process.
+#include <dieflow/base/processes.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <petscsys.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <stdexcept>
+#include <vector>
+
+namespace dieflow
+{
+  namespace processes
+  {
+    namespace
+    {
+      unsigned int n_processes = 1;
+      unsigned int this_rank   = 0;
+
+      /// Reduces @p data on the first process and broadcasts the sum: the
+      /// same bits everywhere (an all-reduce may add in a different order
+      /// on different processes).
+      void
+      sum_doubles(double *data, const std::size_t count)
+      {
+        // MPI counts are int: large arrays go in slices.
+        constexpr std::size_t slice = std::size_t(1) << 28;
+        for (std::size_t start = 0; start < count; start += slice)
+          {
+            const int length = static_cast<int>(std::min(slice, count - start));
+            if (this_rank == 0)
+              MPI_Reduce(MPI_IN_PLACE, data + start, length, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+            else
+              MPI_Reduce(data + start, nullptr, length, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+            MPI_Bcast(data + start, length, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+          }
+      }
+
+      unsigned int
+      from_environment(const char *name, const unsigned int otherwise)
+      {
+        const char *value = std::getenv(name);
+        return value != nullptr ? static_cast<unsigned int>(std::strtoul(value, nullptr, 10)) : otherwise;
+      }
+    } // namespace
+
+
+
+    std::pair<unsigned int, unsigned int>
+    launched()
+    {
+      for (const auto &[size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, {"PMI_SIZE", "PMI_RANK"}})
+        if (std::getenv(size) != nullptr)
+          return {from_environment(size, 1), from_environment(rank, 0)};
+      return {1, 0};
+    }
+
+
+
+    unsigned int
+    on_this_machine()
+    {
+      return from_environment("OMPI_COMM_WORLD_LOCAL_SIZE", launched().first);
+    }
+
+
+
+    Session::Session()
+    {
+      if (launched().first <= 1)
+        return;
+      int provided = 0;
+      MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+      int size = 1, rank = 0;
+      MPI_Comm_size(MPI_COMM_WORLD, &size);
+      MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+      n_processes = static_cast<unsigned int>(size);
+      this_rank   = static_cast<unsigned int>(rank);
+      // PETSc's own handlers would take SIGINT and SIGTERM from the
+      // program's (interrupt.h), and its error handler would print a
+      // traceback where the program reports one line.
+      PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+      PetscInitializeNoArguments();
+      PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+      started = true;
+    }
+
+
+
+    Session::~Session()
+    {
+      if (!started)
+        return;
+      PetscFinalize();
+      MPI_Finalize();
+      n_processes = 1;
+      this_rank   = 0;
+    }
+
+
+
+    unsigned int
+    n()
+    {
+      return n_processes;
+    }
+
+
+
+    unsigned int
+    rank()
+    {
+      return this_rank;
+    }
+
+
+
+    bool
+    writes_output()
+    {
+      return this_rank == 0;
+    }
+
+
+
+    std::ostream &
+    null_stream()
+    {
+      struct NullBuffer : std::streambuf
+      {
+        int
+        overflow(const int c) override
+        {
+          return c == traits_type::eof() ? 0 : c;
+        }
+      };
+      static NullBuffer   buffer;
+      static std::ostream stream(&buffer);
+      return stream;
+    }
+
+
+
+    MPI_Comm
+    communicator()
+    {
+      return MPI_COMM_WORLD;
+    }
+
+
+
+    void
+    sum(dealii::Vector<double> &v)
+    {
+      if (n_processes > 1 && v.size() > 0)
+        sum_doubles(v.data(), v.size());
+    }
+
+
+
+    void
+    sum(dealii::SparseMatrix<double> &matrix)
+    {
+      if (n_processes == 1)
+        return;
+      // In slices of a million entries: no second copy of a large matrix.
+      constexpr std::size_t slice = std::size_t(1) << 20;
+      std::vector<double>   values;
+      values.reserve(std::min<std::size_t>(slice, matrix.n_nonzero_elements()));
+      auto read = matrix.begin(), write = matrix.begin();
+      while (read != matrix.end())
+        {
+          values.clear();
+          for (; read != matrix.end() && values.size() < slice; ++read)
+            values.push_back(read->value());
+          sum_doubles(values.data(), values.size());
+          for (const double value : values)
+            (write++)->value() = value;
+        }
+    }
+
+
+
+    void
+    require_same(const dealii::Vector<double> &v, const char *where)
+    {
+      if (n_processes == 1)
+        return;
+      // FNV-1a over the bytes, its size folded in.
+      std::uint64_t hash = 1469598103934665603ULL ^ v.size();
+      const auto *  byte = reinterpret_cast<const unsigned char *>(v.begin());
+      for (std::size_t i = 0; i < v.size() * sizeof(double); ++i)
+        hash = (hash ^ byte[i]) * 1099511628211ULL;
+      std::uint64_t low = hash, high = hash;
+      MPI_Allreduce(MPI_IN_PLACE, &low, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD);
+      MPI_Allreduce(MPI_IN_PLACE, &high, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
+      if (low != high)
+        throw std::logic_error(std::string("the MPI processes' states differ at ") + where);
+    }
+
+
+
+    bool
+    any(const bool yes)
+    {
+      if (n_processes == 1)
+        return yes;
+      int local = yes ? 1 : 0, global = 0;
+      MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+      return global != 0;
+    }
+
+
+
+    template <int dim>
+    void
+    partition(dealii::Triangulation<dim> &triangulation)
+    {
+      if (n_processes == 1)
+        return;
+      std::vector<unsigned int> parts(triangulation.n_active_cells());
+      if (this_rank == 0)
+        {
+          dealii::GridTools::partition_triangulation(n_processes, triangulation);
+          for (const auto &cell : triangulation.active_cell_iterators())
+            parts[cell->active_cell_index()] = cell->subdomain_id();
+        }
+      MPI_Bcast(parts.data(), static_cast<int>(parts.size()), MPI_UNSIGNED, 0, MPI_COMM_WORLD);
+      for (const auto &cell : triangulation.active_cell_iterators())
+        cell->set_subdomain_id(parts[cell->active_cell_index()]);
+    }
+
+    template void
+    partition(dealii::Triangulation<2> &);
+    template void
+    partition(dealii::Triangulation<3> &);
+  } // namespace processes
+} // namespace dieflow
