@@ -52,7 +52,10 @@ namespace dieflow
     std::pair<unsigned int, unsigned int>
     launched()
     {
-      for (const auto &[size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, {"PMI_SIZE", "PMI_RANK"}})
+      // Open MPI's mpirun; MPICH's Hydra; Slurm's srun (a job step's tasks).
+      for (const auto &[size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
+                                       {"PMI_SIZE", "PMI_RANK"},
+                                       {"SLURM_STEP_NUM_TASKS", "SLURM_PROCID"}})
         if (std::getenv(size) != nullptr)
           return {from_environment(size, 1), from_environment(rank, 0)};
       return {1, 0};
@@ -63,7 +66,7 @@ namespace dieflow
     unsigned int
     on_this_machine()
     {
-      return from_environment("OMPI_COMM_WORLD_LOCAL_SIZE", launched().first);
+      return from_environment("OMPI_COMM_WORLD_LOCAL_SIZE", from_environment("MPI_LOCALNRANKS", launched().first));
     }
 
 

@@ -360,9 +360,13 @@ namespace dieflow
     catch (const dealii::ExceptionBase &exc)
       {
         // ParameterHandler reports unknown entries, bad values and syntax
-        // errors of the deck through deal.II exceptions.
+        // errors of the deck through deal.II exceptions; so does DataOut a
+        // file the first process could not write, the others waiting for
+        // it: the first ends them all.
         if (first)
           std::cerr << "dieflow: error: " << deck_error_message(exc, argument) << std::endl;
+        if (first && processes::n() > 1)
+          MPI_Abort(processes::communicator(), exit_bad_input);
         return exit_bad_input;
       }
     catch (const std::exception &exc)

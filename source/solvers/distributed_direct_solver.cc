@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,10 @@ namespace dieflow
 {
   namespace
   {
+    /// A PETSc call that failed, perhaps on this process alone while the
+    /// others wait in a collective: not a SolverFailure (which a process
+    /// would handle by itself, the others waiting for ever) but an internal
+    /// error, which ends the run on every process (MPI_Abort, run.cc).
     void
     check(const PetscErrorCode error, const char *what)
     {
@@ -22,7 +27,8 @@ namespace dieflow
         {
           const char *text = nullptr;
           PetscErrorMessage(error, &text, nullptr);
-          throw SolverFailure(std::string("MUMPS (PETSc ") + what + "): " + (text != nullptr ? text : "error " + std::to_string(error)));
+          throw std::runtime_error(std::string("PETSc ") + what + " failed in the distributed direct solve: " +
+                                   (text != nullptr ? text : "error " + std::to_string(error)));
         }
     }
   } // namespace
@@ -136,9 +142,16 @@ namespace dieflow
     int worst = reason == PC_NOERROR ? 0 : reason == PC_SETUP_ERROR ? 100 : static_cast<int>(reason);
     MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_INT, MPI_MAX, processes::communicator());
     if (worst != 0)
-      throw SolverFailure(std::string("MUMPS could not factorise the Newton system (") +
-                          (worst == 100 ? "SETUP_ERROR" : PCFailedReasons[worst]) +
-                          (worst == PC_FACTOR_OUTMEMORY ? "): out of memory: run on more processes or machines" : "): singular"));
+      {
+        // MUMPS keeps a failed factorisation's error for the pattern: the
+        // next factorisation starts afresh.
+        petsc.reset();
+        throw SolverFailure(std::string("MUMPS could not factorise the Newton system (") +
+                            (worst == 100 ? "SETUP_ERROR" : PCFailedReasons[worst]) +
+                            (worst == PC_FACTOR_OUTMEMORY ?
+                               "): out of memory, or its workspace estimate too small: run on more processes or machines" :
+                               "): singular"));
+      }
     petsc->factorised = true;
   }
 

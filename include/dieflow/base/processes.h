@@ -36,11 +36,11 @@ namespace dieflow
   namespace processes
   {
     /// How many processes a launcher started, and this one's rank, from its
-    /// environment (Open MPI's mpirun; MPICH's or Slurm's PMI); {1, 0} when none did.
+    /// environment (Open MPI's mpirun, MPICH's Hydra, Slurm's srun); {1, 0} when none did.
     std::pair<unsigned int, unsigned int>
     launched();
 
-    /// The processes on this machine (Open MPI's local size; else launched()'s).
+    /// The processes on this machine (Open MPI's or MPICH's local size; else launched()'s).
     unsigned int
     on_this_machine();
 
