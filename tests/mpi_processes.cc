@@ -24,7 +24,8 @@
 //  - a Target error run stops at the same cycle on 2 as on 1;
 //  - the dual-weighted indicator (an adjoint solve with J^T) refines the
 //    same cells on 2 as on 1;
-//  - one summary.json and one VTU per cycle, no partial or probe files;
+//  - one summary.json, a VTU piece per process and cycle (their cells
+//    together one process's) listed by a .pvtu, no partial or probe files;
 //  - the refusals on 2 processes, one line each, exit 1: a run in time, the
 //    iterative solver, fewer than two cells per process.
 #include <dieflow/problem/run.h>
@@ -152,6 +153,18 @@ namespace
     return same && gap < tolerance;
   }
 
+  /// The cells a .vtu file of deal.II's holds (the sum over its pieces); 0 if none or no file.
+  long
+  vtu_cells(const std::string &file)
+  {
+    const std::string text  = file_contents(file);
+    const std::regex  piece("NumberOfCells=\"([0-9]+)\"");
+    long              cells = 0;
+    for (auto m = std::sregex_iterator(text.begin(), text.end(), piece); m != std::sregex_iterator(); ++m)
+      cells += std::stol((*m)[1]);
+    return cells;
+  }
+
   bool
   one_line(const std::string &text)
   {
@@ -192,9 +205,25 @@ main(int argc, char **argv)
         const std::string file = entry.path().filename().string();
         files = files && file.find(".partial") == std::string::npos && file.find("write-check") == std::string::npos;
       }
+    // Each process writes the piece of the cells it assembles; the pieces
+    // together hold as many (subdivided) cells as one process's file.
+    bool whole = true;
     for (unsigned int c = 0; c < 4; ++c)
-      files = files && std::filesystem::exists(two.directory + "/results/solution-0" + std::to_string(c) + ".vtu");
-    report("  2 processes: one solution file per cycle, summary.json and the pvd whole, no partial or probe files",
+      {
+        const std::string stem = "/results/solution-0" + std::to_string(c);
+        const long        all  = vtu_cells(one.directory + stem + ".vtu");
+        const long pieces = vtu_cells(two.directory + stem + ".0000.vtu") + vtu_cells(two.directory + stem + ".0001.vtu");
+        const std::string list = file_contents(two.directory + stem + ".pvtu");
+        whole = whole && all > 0 && vtu_cells(two.directory + stem + ".0000.vtu") > 0 &&
+                vtu_cells(two.directory + stem + ".0001.vtu") > 0 && pieces == all &&
+                list.find("solution-0" + std::to_string(c) + ".0001.vtu") != std::string::npos &&
+                !std::filesystem::exists(two.directory + stem + ".vtu");
+      }
+    const std::string pvd = file_contents(two.directory + "/results/solution.pvd");
+    report("  2 processes: a .vtu piece per process and cycle, listed by a .pvtu the .pvd names, their cells together "
+           "those of one process's .vtu",
+           whole && pvd.find("solution-03.pvtu") != std::string::npos);
+    report("  2 processes: summary.json and the pvd whole, no partial or probe files",
            files && std::filesystem::exists(two.directory + "/results/solution.pvd"));
     const std::string screen = file_contents(two.directory + "/out.txt");
     std::size_t       converged = 0;

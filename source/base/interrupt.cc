@@ -2,6 +2,8 @@
 #include <dieflow/base/interrupt.h>
 #include <dieflow/base/processes.h>
 
+#include <deal.II/base/mpi.h>
+
 #include <csignal>
 #include <unistd.h>
 
@@ -50,8 +52,7 @@ namespace dieflow
       // The agreed signal is the one that stopped the run.
       if (processes::n() > 1)
         {
-          int signal = received;
-          MPI_Allreduce(MPI_IN_PLACE, &signal, 1, MPI_INT, MPI_MAX, processes::communicator());
+          const int signal = dealii::Utilities::MPI::max(static_cast<int>(received), processes::communicator());
           if (signal != 0 && received == 0)
             received = signal;
         }

@@ -206,18 +206,6 @@ namespace dieflow
 
 
 
-    bool
-    any(const bool yes)
-    {
-      if (n_processes == 1)
-        return yes;
-      int local = yes ? 1 : 0, global = 0;
-      MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-      return global != 0;
-    }
-
-
-
     template <int dim>
     void
     partition(dealii::Triangulation<dim> &triangulation)

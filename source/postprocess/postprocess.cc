@@ -682,24 +682,57 @@ namespace dieflow
     data_out.add_data_vector(p_mean, "cell_pressure", dealii::DataOut<dim>::type_cell_data);
     for (const auto &[name, values] : cell_fields)
       data_out.add_data_vector(values, name, dealii::DataOut<dim>::type_cell_data);
+    // On several processes each writes the piece of the cells it assembles
+    // (a .vtu per process, and a .pvtu that lists them, from the first):
+    // the patches are built where the cells are, and no process holds the
+    // whole output. Gnuplot has no pieces: the first process writes it whole.
+    using cell_iterator = typename dealii::DataOut<dim>::cell_iterator;
+    const bool pieces   = processes::n() > 1;
+    const bool gnuplot_here = gnuplot && processes::writes_output();
+    const std::string stem  = "solution-" + dealii::Utilities::int_to_string(cycle, 2);
     // Degree 2: each cell subdivided, so the output shows the curved field.
-    data_out.build_patches(dof_handler.get_fe().degree);
-
-    const std::string stem = "solution-" + dealii::Utilities::int_to_string(cycle, 2);
+    const unsigned int subdivisions = dof_handler.get_fe().degree;
     if (vtu)
       {
-        if (processes::writes_output())
+        if (pieces)
+          data_out.set_cell_selection(
+            [](const cell_iterator &cell) { return cell->is_active() && processes::owns(cell); });
+        data_out.build_patches(subdivisions);
+        std::string record = stem + ".vtu";
+        if (pieces)
           {
-            std::ofstream out(directory + "/" + stem + ".vtu");
+            const auto piece = [&](const unsigned int rank) {
+              return stem + "." + dealii::Utilities::int_to_string(rank, 4) + ".vtu";
+            };
+            std::ofstream out(directory + "/" + piece(processes::rank()));
+            data_out.write_vtu(out);
+            record = stem + ".pvtu";
+            if (processes::writes_output())
+              {
+                std::vector<std::string> names;
+                for (unsigned int rank = 0; rank < processes::n(); ++rank)
+                  names.push_back(piece(rank));
+                std::ofstream list(directory + "/" + record);
+                data_out.write_pvtu_record(list, names);
+              }
+          }
+        else if (processes::writes_output())
+          {
+            std::ofstream out(directory + "/" + record);
             data_out.write_vtu(out);
           }
-        pvd_records.emplace_back(record_time, stem + ".vtu");
+        pvd_records.emplace_back(record_time, record);
         AtomicFile pvd(directory + "/solution.pvd");
         dealii::DataOutBase::write_pvd_record(pvd.stream(), pvd_records);
         pvd.commit();
       }
-    if (gnuplot && processes::writes_output())
+    if (gnuplot_here)
       {
+        if (!vtu || pieces)
+          {
+            data_out.set_cell_selection([](const cell_iterator &cell) { return cell->is_active(); });
+            data_out.build_patches(subdivisions);
+          }
         std::ofstream out(directory + "/" + stem + ".gnuplot");
         data_out.write_gnuplot(out);
       }

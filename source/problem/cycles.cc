@@ -6,6 +6,7 @@
 #include <dieflow/postprocess/cycle_guards.h>
 #include <dieflow/problem/problem.h>
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
@@ -332,7 +333,7 @@ namespace dieflow
     dealii::Utilities::System::get_memory_stats(memory);
     summary.peak_memory_mb = memory.VmHWM / 1024.;
     if (processes::n() > 1)
-      MPI_Allreduce(MPI_IN_PLACE, &summary.peak_memory_mb, 1, MPI_DOUBLE, MPI_MAX, processes::communicator());
+      summary.peak_memory_mb = dealii::Utilities::MPI::max(summary.peak_memory_mb, processes::communicator());
     summary.processes      = processes::n();
     summary.threads        = threads::running();
     write_summary_json(summary, parameters.run.output_directory + "/summary.json");

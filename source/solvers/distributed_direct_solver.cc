@@ -3,6 +3,8 @@
 #include <dieflow/solvers/distributed_direct_solver.h>
 #include <dieflow/solvers/linear_solver.h>
 
+#include <deal.II/base/mpi.h>
+
 #include <petscksp.h>
 
 #include <algorithm>
@@ -139,8 +141,8 @@ namespace dieflow
     check(PCGetFailedReason(pc, &reason), "PCGetFailedReason");
     // Every process must agree on the failure (a zero pivot is met by one):
     // the worst reason of any (the set-up error, -1, taken as the worst).
-    int worst = reason == PC_NOERROR ? 0 : reason == PC_SETUP_ERROR ? 100 : static_cast<int>(reason);
-    MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_INT, MPI_MAX, processes::communicator());
+    const int worst = dealii::Utilities::MPI::max(
+      reason == PC_NOERROR ? 0 : reason == PC_SETUP_ERROR ? 100 : static_cast<int>(reason), processes::communicator());
     if (worst != 0)
       {
         // MUMPS keeps a failed factorisation's error for the pattern: the

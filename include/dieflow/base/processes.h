@@ -98,10 +98,6 @@ namespace dieflow
     void
     require_same(const dealii::Vector<double> &v, const char *where);
 
-    /// Whether any process says yes (for signals, which reach processes at different times).
-    bool
-    any(const bool yes);
-
     /**
      * Divides the active cells among the processes with METIS (on the
      * first process, broadcast, so the parts agree), as their subdomain
