@@ -187,6 +187,34 @@ namespace dieflow
 
 
 
+    dealii::IndexSet
+    owned_rows(const dealii::types::global_dof_index n)
+    {
+      const auto       first = (n * rank()) / n_processes, last = (n * (rank() + 1)) / n_processes;
+      dealii::IndexSet rows(n);
+      rows.add_range(first, last);
+      return rows;
+    }
+
+
+
+    void
+    gather(dealii::Vector<double> &v)
+    {
+      if (n_processes == 1)
+        return;
+      std::vector<int> counts(n_processes), offsets(n_processes);
+      for (unsigned int r = 0; r < n_processes; ++r)
+        {
+          offsets[r] = static_cast<int>((v.size() * r) / n_processes);
+          counts[r]  = static_cast<int>((v.size() * (r + 1)) / n_processes) - offsets[r];
+        }
+      MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, v.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+                     communicator());
+    }
+
+
+
     void
     require_same(const dealii::Vector<double> &v, const char *where)
     {

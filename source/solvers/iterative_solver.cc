@@ -1,9 +1,12 @@
-// Krylov solves (CG or GMRES) preconditioned by Trilinos ML's algebraic multigrid, for the augmented-Lagrangian form; MPI on first use.
+// Krylov solves (CG or GMRES) preconditioned by Trilinos ML's algebraic multigrid, for the augmented-Lagrangian form, on one process or across several; MPI on first use.
 #include <dieflow/solvers/iterative_solver.h>
+
+#include <dieflow/base/processes.h>
 
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
+#include <deal.II/lac/trilinos_vector.h>
 
 #include <mpi.h>
 
@@ -43,6 +46,43 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// CG (@p symmetric) or GMRES on @p matrix x = @p rhs from x = 0, to |r| <= @p target.
+    template <typename Matrix, typename VectorType>
+    IterativeSolveInfo
+    krylov(const Matrix &                                   matrix,
+           const bool                                       symmetric,
+           const VectorType &                               rhs,
+           VectorType &                                     solution,
+           const dealii::TrilinosWrappers::PreconditionAMG &preconditioner,
+           const double                                     target,
+           const unsigned int                               max_iterations)
+    {
+      IterativeSolveInfo    info;
+      dealii::SolverControl control(max_iterations, target, false, false);
+      try
+        {
+          if (symmetric)
+            dealii::SolverCG<VectorType>(control).solve(matrix, solution, rhs, preconditioner);
+          else
+            {
+              // Restarts every 50 vectors: enough for AMG-preconditioned
+              // systems, and 50 vectors of 500,000 dofs are 200 MB.
+              typename dealii::SolverGMRES<VectorType>::AdditionalData gmres(50, true);
+              dealii::SolverGMRES<VectorType>(control, gmres).solve(matrix, solution, rhs, preconditioner);
+            }
+          info.converged = true;
+        }
+      catch (const dealii::SolverControl::NoConvergence &)
+        {}
+      info.iterations = control.last_step();
+      return info;
+    }
+  } // namespace
+
+
+
   void
   IterativeSolver::set_constant_modes(const std::vector<std::vector<bool>> &modes)
   {
@@ -68,25 +108,37 @@ namespace dieflow
         return info;
       }
 
+    if (processes::n() > 1)
+      return solve_across_processes(matrix, symmetric, rhs, solution, target, max_iterations);
     preconditioner.initialize(matrix, velocity_amg_data(constant_modes, false));
+    return krylov(matrix, symmetric, rhs, solution, preconditioner, target, max_iterations);
+  }
 
-    dealii::SolverControl control(max_iterations, target, false, false);
-    try
-      {
-        if (symmetric)
-          dealii::SolverCG<dealii::Vector<double>>(control).solve(matrix, solution, rhs, preconditioner);
-        else
-          {
-            // Restarts every 50 vectors: enough for AMG-preconditioned
-            // systems, and 50 vectors of 500,000 dofs are 200 MB.
-            dealii::SolverGMRES<dealii::Vector<double>>::AdditionalData gmres(50, true);
-            dealii::SolverGMRES<dealii::Vector<double>>(control, gmres).solve(matrix, solution, rhs, preconditioner);
-          }
-        info.converged = true;
-      }
-    catch (const dealii::SolverControl::NoConvergence &)
-      {}
-    info.iterations = control.last_step();
+
+
+  IterativeSolveInfo
+  IterativeSolver::solve_across_processes(const dealii::SparseMatrix<double> &matrix,
+                                          const bool                          symmetric,
+                                          const dealii::Vector<double> &      rhs,
+                                          dealii::Vector<double> &            solution,
+                                          const double                        target,
+                                          const unsigned int                  max_iterations)
+  {
+    const dealii::IndexSet rows = processes::owned_rows(matrix.m());
+    // The operator as it is (no entry dropped: the Krylov method multiplies
+    // with it), its pattern made afresh: on a pattern it knows, Trilinos's
+    // copy would keep the old value where the new one is zero.
+    distributed_matrix.clear();
+    distributed_matrix.reinit(rows, rows, matrix, processes::communicator(), 0.);
+    preconditioner.initialize(distributed_matrix, velocity_amg_data(constant_modes, false));
+    dealii::TrilinosWrappers::MPI::Vector b(rows, processes::communicator()), x(b);
+    for (const auto row : rows)
+      b[row] = rhs[row];
+    b.compress(dealii::VectorOperation::insert);
+    const IterativeSolveInfo info = krylov(distributed_matrix, symmetric, b, x, preconditioner, target, max_iterations);
+    for (const auto row : rows)
+      solution[row] = x[row];
+    processes::gather(solution);
     return info;
   }
 } // namespace dieflow

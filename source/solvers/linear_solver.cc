@@ -562,7 +562,8 @@ namespace dieflow
   bool
   LinearSolver::direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix)
   {
-    // Across processes the only solver is the direct one (doc/parallel.md).
+    // Across processes the direct solver is MUMPS, its memory divided
+    // among them, which CHOLMOD's analysis does not describe (doc/parallel.md).
     if (processes::n() > 1)
       return true;
     const double available = available_memory();
@@ -608,8 +609,9 @@ namespace dieflow
   double
   LinearSolver::direct_fallback_bytes(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
+    // Across processes the fallback is MUMPS's, its memory divided (see factorize()).
     const double available = available_memory();
-    if (!analysis_needed(dim, matrix.m(), available))
+    if (processes::n() > 1 || !analysis_needed(dim, matrix.m(), available))
       return 0.;
     suitesparse->analyse_pattern(matrix);
     return suitesparse->factorisation_bytes(symmetric && parameters.direct_solver == LinearSolverParameters::DirectSolver::automatic);

@@ -178,8 +178,9 @@ namespace dieflow
   bool
   LinearSolverParameters::iterative_for(const unsigned int dim, const unsigned int degree, const std::size_t n_dofs) const
   {
-    // Across MPI processes the systems are factorised (MUMPS, doc/parallel.md).
-    if (processes::n() > 1)
+    // Across MPI processes degree 2's systems are factorised (MUMPS): its
+    // iterative solver, the mixed form, is not distributed (doc/parallel.md).
+    if (processes::n() > 1 && degree >= 2)
       return false;
     const std::size_t threshold = iterative_threshold > 0 ? iterative_threshold : auto_threshold(dim, degree);
     return method == Method::iterative || (method == Method::automatic && n_dofs >= threshold);

@@ -2,6 +2,7 @@
 #ifndef dieflow_processes_h
 #define dieflow_processes_h
 
+#include <deal.II/base/index_set.h>
 #include <deal.II/base/types.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/sparse_matrix.h>
@@ -97,6 +98,16 @@ namespace dieflow
      */
     void
     require_same(const dealii::Vector<double> &v, const char *where);
+
+    /// The rows of an @p n x @p n system this process owns in a distributed
+    /// solve: a contiguous block, [n r / P, n (r + 1) / P) on process r.
+    dealii::IndexSet
+    owned_rows(const dealii::types::global_dof_index n);
+
+    /// Where each process holds the entries of its owned_rows() in @p v,
+    /// gives every process all of them (the same bits everywhere).
+    void
+    gather(dealii::Vector<double> &v);
 
     /**
      * Divides the active cells among the processes with METIS (on the

@@ -4,6 +4,7 @@
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <vector>
@@ -43,6 +44,12 @@ namespace dieflow
    * times the viscosity: with the full penalty lambda = 1e7 eta the
    * near-incompressible modes are invisible to AMG's smoothers and CG
    * stalls.
+   *
+   * On several MPI processes (processes.h) the system, replicated there,
+   * is solved across them: each process takes its block of rows
+   * (processes::owned_rows()) into a distributed Trilinos matrix, ML builds
+   * its hierarchy across the processes, the Krylov method runs on
+   * distributed vectors, and the solution is gathered to every process.
    */
   class IterativeSolver
   {
@@ -65,8 +72,19 @@ namespace dieflow
           const unsigned int                  max_iterations);
 
   private:
+    /// The Krylov solve across the MPI processes (see the class).
+    IterativeSolveInfo
+    solve_across_processes(const dealii::SparseMatrix<double> &matrix,
+                           const bool                          symmetric,
+                           const dealii::Vector<double> &      rhs,
+                           dealii::Vector<double> &            solution,
+                           const double                        target,
+                           const unsigned int                  max_iterations);
+
     /// First member: the preconditioner needs MPI.
     MpiOnFirstUse mpi;
+    /// Across processes: this process's rows of the matrix (ML keeps a pointer to it).
+    dealii::TrilinosWrappers::SparseMatrix    distributed_matrix;
     std::vector<std::vector<bool>>            constant_modes;
     dealii::TrilinosWrappers::PreconditionAMG preconditioner;
   };
