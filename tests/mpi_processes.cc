@@ -1,7 +1,7 @@
 // The same decks on 1, 2 and 3 MPI processes (mpirun): the same answer to the nonlinear solver's tolerance, one set of files, and the refusals.
 //
 // This program launches itself under mpirun (`--deck FILE`: one process of
-// a run) and compares what the runs write (summary.json). The processes
+// a run, tests/mpi_runs.h) and compares what the runs write (summary.json). The processes
 // divide the flow's cell terms and the direct solve (doc/parallel.md), so
 // the systems differ from one process's by round-off in the order of the
 // sums and in the factorisation (MUMPS against CHOLMOD / UMFPACK): every
@@ -26,156 +26,12 @@
 //    same cells on 2 as on 1;
 //  - one summary.json, a VTU piece per process and cycle (their cells
 //    together one process's) listed by a .pvtu, no partial or probe files;
-//  - degree 1's iterative solver (the augmented Lagrangian, ML across the
-//    processes) on die2d N1 and P1 on 2 and 3 processes: every solve
-//    iterative, the same cells, iterations and contact states as on 1,
-//    quantities within 1e-6; N1 against the direct solver within 1e-4;
+//  - the iterative solvers across processes: tests/mpi_iterative_solvers;
 //  - the refusals on 2 processes, one line each, exit 1: a run in time,
-//    degree 2's iterative solver, fewer than two cells per process.
-#include <dieflow/problem/run.h>
+//    fewer than two cells per process.
+#include "mpi_runs.h"
 
-#include "report.h"
-
-#include <nlohmann/json.hpp>
-
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <map>
-#include <regex>
-#include <sstream>
-#include <string>
-#include <tuple>
-#include <utility>
-#include <vector>
-
-namespace
-{
-  using Json = nlohmann::json;
-
-  /// The text of parameters/@p name with @p changes: each "set Entry = value"
-  /// replaces the entry's line (which must be there), in the order given.
-  std::string
-  shipped_deck(const std::string &name, const std::vector<std::string> &changes)
-  {
-    std::string text = file_contents(std::string(SOURCE_DIR) + "/../parameters/" + name);
-    for (const auto &change : changes)
-      {
-        const std::string entry = change.substr(4, change.find('=') - 4);
-        const std::regex  line("\\n(\\s*)set " + std::regex_replace(entry, std::regex("\\s+$"), "") + "\\s*=[^\\n]*");
-        if (!std::regex_search(text, line))
-          {
-            std::cout << "the deck " << name << " has no entry " << entry << std::endl;
-            std::exit(1);
-          }
-        text = std::regex_replace(text, line, "\n$1" + change, std::regex_constants::format_first_only);
-      }
-    return text;
-  }
-
-  /// The deck tests/@p name without its Output directory and its Test subsection (the check driver's).
-  std::string
-  test_deck(const std::string &name)
-  {
-    const std::string text = file_contents(std::string(SOURCE_DIR) + "/" + name);
-    return std::regex_replace(std::regex_replace(text, std::regex("set Output directory[^\\n]*"), ""),
-                              std::regex("subsection Test[\\s\\S]*"), "");
-  }
-
-  struct Run
-  {
-    int         status = -1;
-    Json        summary;
-    std::string error;
-    std::string directory;
-  };
-
-  /// Runs @p deck (a text) on @p processes MPI processes in the folder @p name.
-  Run
-  launch(const std::string &name, const std::string &deck, const unsigned int processes)
-  {
-    Run run;
-    run.directory = name + "-" + std::to_string(processes);
-    std::filesystem::remove_all(run.directory);
-    std::filesystem::create_directories(run.directory);
-    const std::string output = "set Output directory = " + run.directory + "/results";
-    const std::regex  entry("set Output directory[^\\n]*");
-    std::ofstream(run.directory + "/deck.prm")
-      << (std::regex_search(deck, entry) ? std::regex_replace(deck, entry, output) : output + "\n" + deck);
-    const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
-    const std::string command = "mpirun --oversubscribe --bind-to none -np " + std::to_string(processes) + " " + self +
-                                " --deck " + run.directory + "/deck.prm > " + run.directory + "/out.txt 2> " +
-                                run.directory + "/err.txt";
-    const int status = std::system(command.c_str());
-    run.status       = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    // The program's lines (mpirun adds its own where a process exits non-zero).
-    std::istringstream error(file_contents(run.directory + "/err.txt"));
-    for (std::string line; std::getline(error, line);)
-      if (line.rfind("dieflow:", 0) == 0)
-        run.error += line + "\n";
-    std::ifstream summary(run.directory + "/results/summary.json");
-    if (summary)
-      run.summary = Json::parse(summary);
-    return run;
-  }
-
-  double
-  relative(const double a, const double b)
-  {
-    return a == b ? 0. : std::abs(a - b) / std::max(std::abs(a), std::abs(b));
-  }
-
-  /// Whether @p b's cycles reproduce @p a's: the same cells and Newton
-  /// iterations (@p same_iterations), the same contact states, every
-  /// quantity (@p with_quantities) and the errors against an exact solution
-  /// within @p tolerance; the largest relative gap into @p gap.
-  bool
-  same_answer(const Run &   a,
-              const Run &   b,
-              const double  tolerance,
-              const bool    same_iterations,
-              double &      gap,
-              const bool    with_quantities = true)
-  {
-    gap = 0;
-    if (a.status != 0 || b.status != 0 || !a.summary.is_object() || !b.summary.is_object() ||
-        a.summary["cycles"].size() != b.summary["cycles"].size() || a.summary["cycles"].empty())
-      return false;
-    bool same = true;
-    for (unsigned int c = 0; c < a.summary["cycles"].size(); ++c)
-      {
-        const Json &x = a.summary["cycles"][c], &y = b.summary["cycles"][c];
-        same = same && x["cells"] == y["cells"] && x["contact_nodes"] == y["contact_nodes"];
-        if (same_iterations)
-          same = same && x["nonlinear_iterations"] == y["nonlinear_iterations"];
-        if (with_quantities)
-          for (const auto &[name, value] : x["quantities"].items())
-            gap = std::max(gap, relative(value.get<double>(), y["quantities"][name].get<double>()));
-        for (const char *error : {"velocity_l2_error", "velocity_h1_error"})
-          if (x.contains(error) && x[error].is_number())
-            gap = std::max(gap, relative(x[error].get<double>(), y[error].get<double>()));
-      }
-    return same && gap < tolerance;
-  }
-
-  /// The cells a .vtu file of deal.II's holds (the sum over its pieces); 0 if none or no file.
-  long
-  vtu_cells(const std::string &file)
-  {
-    const std::string text  = file_contents(file);
-    const std::regex  piece("NumberOfCells=\"([0-9]+)\"");
-    long              cells = 0;
-    for (auto m = std::sregex_iterator(text.begin(), text.end(), piece); m != std::sregex_iterator(); ++m)
-      cells += std::stol((*m)[1]);
-    return cells;
-  }
-
-  bool
-  one_line(const std::string &text)
-  {
-    return !text.empty() && text.find('\n') == text.size() - 1;
-  }
-} // namespace
+using namespace mpi_runs;
 
 
 
@@ -183,15 +39,8 @@ int
 main(int argc, char **argv)
 {
   // One process of a run launched below.
-  if (argc == 3 && std::string(argv[1]) == "--deck")
-    {
-      char *arguments[] = {argv[0], argv[2], nullptr};
-      return dieflow::run_command_line(2, arguments);
-    }
-  // The suite runs as root (CI): Open MPI's mpirun refuses it otherwise.
-  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  unsetenv("DEAL_II_NUM_THREADS");
+  if (const int status = launched_process(argc, argv); status >= 0)
+    return status;
 
   double gap = 0;
   {
@@ -280,62 +129,13 @@ main(int argc, char **argv)
            same_answer(launch("dual", deck, 1), launch("dual", deck, 2), 1e-6, true, gap));
   }
 
-  {
-    // The augmented Lagrangian's Krylov solves with ML across processes
-    // (degree 1, Method = iterative): die2d N1 (Newtonian, slipping Coulomb
-    // friction: GMRES) and P1 (Norton-Hoff m = 0.2: the viscosity varies by
-    // 1e4), 8 cells across, 3 adaptive cycles, as tests/iterative_solver.
-    // Each solve stops at its tolerance (1e-6 and looser in the inexact
-    // Newton's first steps) and the partitioned hierarchy differs, so the
-    // iterates differ at that level; Newton's converged answers agree to
-    // its tolerance (measured 1.5e-8 and 7e-9 on an AMD EPYC).
-    const std::string coarse  = "subsection Mesh\n subsection Die2d\n  set Layout = blocks\n  set Cells across = 8\n end\nend\n"
-                                "subsection Refinement\n set Cycles = 3\n set Strategy = adaptive\nend\n";
-    const std::string p1      = "subsection Material\n set Law = Norton-Hoff\n set Consistency K = 0.834\n"
-                                " set Rate sensitivity m = 0.2\n set Minimum strain rate = 1e-4\nend\n";
-    const auto        solver  = [](const std::string &method) {
-      return "subsection Linear solver\n set Method = " + method + "\nend\n";
-    };
-    const auto iterative_everywhere = [](const Run &run) {
-      bool all = run.summary.is_object() && !run.summary["cycles"].empty();
-      for (const auto &cycle : all ? run.summary["cycles"] : Json::array())
-        all = all && cycle["linear_solver"]["method"] == "iterative" && cycle["linear_solver"]["iterative_solves"] > 0 &&
-              cycle["linear_solver"]["direct_fallbacks"] == 0;
-      return all;
-    };
-    for (const auto &[name, law] : {std::pair{"N1", std::string()}, std::pair{"P1", p1}})
-      {
-        const std::string deck = coarse + law + solver("iterative");
-        const Run one = launch(std::string("iterative-") + name, deck, 1),
-                  two = launch(std::string("iterative-") + name, deck, 2),
-                  three = launch(std::string("iterative-") + name, deck, 3);
-        report(std::string("die2d ") + name + ", degree 1, Method = iterative (ML across processes) on 2 and 3 "
-                 "processes: every solve iterative, none falling back to MUMPS",
-               iterative_everywhere(two) && iterative_everywhere(three));
-        report("  the same cells, Newton iterations and contact states per cycle as on 1, quantities within 1e-6",
-               same_answer(one, two, 1e-6, true, gap) && same_answer(one, three, 1e-6, true, gap));
-        if (law.empty())
-          {
-            // The direct method solves the penalty form, compressible at a
-            // divergence ratio of 1e-6: tests/iterative_solver's 1e-4.
-            report("  N1 on 2 processes against the direct solver on 1: the same cells and contact states, "
-                   "quantities within 1e-4",
-                   same_answer(launch("direct-N1", coarse + solver("direct"), 1), two, 1e-4, false, gap));
-          }
-      }
-  }
-
   // The refusals.
   const std::string one_cell =
     std::regex_replace(test_deck("adaptive_poiseuille.prm"), std::regex("Subdivisions = 8, 4"), "Subdivisions = 1, 1");
   const std::string incremental =
     shipped_deck("upsetting-incremental.prm", {"set Write VTU = false"});
-  const std::string iterative =
-    shipped_deck("die2d-held-land.prm", {"set Write VTU = false"}) + "\nsubsection Linear solver\n  set Method = iterative\nend\n";
-  // (degree 2: the mixed form is not distributed)
   for (const auto &[what, deck, entry] :
        {std::tuple{"a run in time", incremental, "Problem"},
-        std::tuple{"Linear solver/Method = iterative at degree 2", iterative, "Linear solver/Method"},
         std::tuple{"a mesh of one cell", one_cell, "Mesh"}})
     {
       const Run run = launch("refused", deck, 2);

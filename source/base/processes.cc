@@ -165,6 +165,15 @@ namespace dieflow
 
 
     void
+    sum(std::vector<double> &v)
+    {
+      if (n_processes > 1 && !v.empty())
+        sum_doubles(v.data(), v.size());
+    }
+
+
+
+    void
     sum(dealii::SparseMatrix<double> &matrix)
     {
       if (n_processes == 1)
@@ -187,27 +196,38 @@ namespace dieflow
 
 
 
-    dealii::IndexSet
-    owned_rows(const dealii::types::global_dof_index n)
+    namespace
     {
-      const auto       first = (n * rank()) / n_processes, last = (n * (rank() + 1)) / n_processes;
+      /// The first row of process @p r's block (owned_rows()).
+      dealii::types::global_dof_index
+      first_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r)
+      {
+        return r == n_processes ? n : block * (((n / block) * r) / n_processes);
+      }
+    } // namespace
+
+
+
+    dealii::IndexSet
+    owned_rows(const dealii::types::global_dof_index n, const unsigned int block)
+    {
       dealii::IndexSet rows(n);
-      rows.add_range(first, last);
+      rows.add_range(first_row(n, block, rank()), first_row(n, block, rank() + 1));
       return rows;
     }
 
 
 
     void
-    gather(dealii::Vector<double> &v)
+    gather(dealii::Vector<double> &v, const unsigned int block)
     {
       if (n_processes == 1)
         return;
       std::vector<int> counts(n_processes), offsets(n_processes);
       for (unsigned int r = 0; r < n_processes; ++r)
         {
-          offsets[r] = static_cast<int>((v.size() * r) / n_processes);
-          counts[r]  = static_cast<int>((v.size() * (r + 1)) / n_processes) - offsets[r];
+          offsets[r] = static_cast<int>(first_row(v.size(), block, r));
+          counts[r]  = static_cast<int>(first_row(v.size(), block, r + 1)) - offsets[r];
         }
       MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, v.data(), counts.data(), offsets.data(), MPI_DOUBLE,
                      communicator());

@@ -237,7 +237,6 @@ namespace dieflow
     const bool use_dual = (tangent == Tangent::primal_dual) && dual.size() == n_dual_points(dof_handler);
 
     Assert(mixed == nullptr || fe.degree >= 2, dealii::ExcMessage("The mixed form needs the stable pair (degree 2)."));
-    AssertThrow(mixed == nullptr || processes::n() == 1, dealii::ExcMessage("The mixed form is not distributed."));
     if (matrix != nullptr)
       *matrix = 0;
     if (mixed != nullptr)
@@ -406,6 +405,8 @@ namespace dieflow
     // on every process (processes.h).
     if (matrix != nullptr)
       processes::sum(*matrix);
+    if (mixed != nullptr)
+      mixed->sum_over_processes();
     processes::sum(rhs);
     processes::sum(raw_residual);
   }

@@ -43,12 +43,6 @@ namespace dieflow
               "Problem",
               "incremental runs are not yet distributed (the remeshing, the transfer of fields and the checkpoint): "
               "run this deck on one process, without mpirun (started as " + processes_started + ", doc/parallel.md)");
-      require(parameters.linear_solver.method != LinearSolverParameters::Method::iterative ||
-                parameters.velocity_degree == 1,
-              "Linear solver/Method",
-              "degree 2's iterative solver (the mixed form and its p-multigrid cycle) is not yet distributed: set "
-              "Method = direct or auto (across processes degree 2 factorises with MUMPS), Velocity degree = 1, or run "
-              "on one process (started as " + processes_started + ", doc/parallel.md)");
       require(triangulation.n_active_cells() >= 2 * processes::n(),
               "Mesh",
               std::to_string(triangulation.n_active_cells()) + " cells for " + processes_started +

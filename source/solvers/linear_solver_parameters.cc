@@ -1,5 +1,4 @@
 // The Linear solver subsection: its entries, their parsing, and the choices that follow from them (the auto threshold, the forcing tolerance).
-#include <dieflow/base/processes.h>
 #include <dieflow/solvers/linear_solver.h>
 
 #include <algorithm>
@@ -178,10 +177,6 @@ namespace dieflow
   bool
   LinearSolverParameters::iterative_for(const unsigned int dim, const unsigned int degree, const std::size_t n_dofs) const
   {
-    // Across MPI processes degree 2's systems are factorised (MUMPS): its
-    // iterative solver, the mixed form, is not distributed (doc/parallel.md).
-    if (processes::n() > 1 && degree >= 2)
-      return false;
     const std::size_t threshold = iterative_threshold > 0 ? iterative_threshold : auto_threshold(dim, degree);
     return method == Method::iterative || (method == Method::automatic && n_dofs >= threshold);
   }

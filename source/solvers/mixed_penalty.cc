@@ -1,9 +1,12 @@
 // The penalty term of the Q2-P1disc pair in mixed form: the blocks B and B^T, the cell masses M_K, and lambda, eta and h per cell.
+#include <dieflow/base/processes.h>
 #include <dieflow/solvers/mixed_penalty.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
 #include <cmath>
+
+#include <algorithm>
 
 namespace dieflow
 {
@@ -53,6 +56,26 @@ namespace dieflow
   {
     divergence = 0;
     gradient   = 0;
+    penalty    = 0;
+    viscosity  = 0;
+    size       = 0;
+    std::fill(masses.begin(), masses.end(), 0.);
+    std::fill(inverse_masses.begin(), inverse_masses.end(), 0.);
+  }
+
+
+
+  template <int dim>
+  void
+  MixedPenalty<dim>::sum_over_processes()
+  {
+    processes::sum(divergence);
+    processes::sum(gradient);
+    processes::sum(penalty);
+    processes::sum(viscosity);
+    processes::sum(size);
+    processes::sum(masses);
+    processes::sum(inverse_masses);
   }
 
 

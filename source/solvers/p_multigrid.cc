@@ -63,7 +63,7 @@ namespace dieflow
                               const dealii::AffineConstraints<double> &constraints,
                               const dealii::Vector<double> *           flow)
   {
-    matrix = &A;
+    matrix.reinit(A);
     free.reinit(A.m());
     for (unsigned int i = 0; i < A.m(); ++i)
       free[i] = constraints.is_constrained(i) ? 0. : 1.;
@@ -108,7 +108,7 @@ namespace dieflow
     data.smoothing_range      = 15;
     data.eig_cg_n_iterations  = 12;
     data.eigenvalue_algorithm = decltype(data)::EigenvalueAlgorithm::power_iteration;
-    smoother.initialize(A, data);
+    smoother.initialize(matrix, data);
 
     // The rigid-body modes, and the flow as one more where it is given.
     std::vector<double> modes_with_flow;
@@ -145,8 +145,7 @@ namespace dieflow
     // iterations and cost time and memory: one sweep there
     // (doc/benchmarks.md, "Figures behind the code's rules").
     const unsigned int prolongator_sweeps = dim == 2 ? 2 : 1;
-    initialize_with_rigid_body_modes<dim>(coarse_amg, coarse_copy, coarse_matrix, modes, amg_data, dim,
-                                          prolongator_sweeps);
+    coarse_amg.initialize<dim>(coarse_matrix, modes, amg_data, dim, prolongator_sweeps);
     residual.reinit(A.m());
     coarse_residual.reinit(coarse_matrix.m());
     coarse_correction.reinit(coarse_matrix.m());
@@ -161,7 +160,7 @@ namespace dieflow
   PMultigrid<dim>::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
   {
     smoother.vmult(dst, src);
-    matrix->residual(residual, dst, src);
+    matrix.residual(residual, dst, src);
     residual.scale(free);
     embedding.Tvmult(coarse_residual, residual);
     coarse_amg.vmult(coarse_correction, coarse_residual);

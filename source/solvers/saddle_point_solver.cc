@@ -7,7 +7,10 @@
 #include <deal.II/lac/solver_gmres.h>
 #include <deal.II/lac/vector_memory.h>
 
+#include <dieflow/base/processes.h>
 #include <dieflow/solvers/linear_solver.h>
+
+#include <deal.II/base/mpi.h>
 
 #include <algorithm>
 
@@ -23,10 +26,12 @@ namespace dieflow
     class MixedOperator
     {
     public:
-      MixedOperator(const dealii::SparseMatrix<double> &A,
+      MixedOperator(const dealii::SparseMatrix<double> &A_matrix,
                     const MixedPenalty<dim> &           blocks,
                     const dealii::Vector<double> &      scale)
-        : A(A)
+        : A(A_matrix)
+        , gradient(blocks.gradient)
+        , divergence(blocks.divergence)
         , blocks(blocks)
         , scale(scale)
         , scale_squared_over_penalty(scale.size())
@@ -40,8 +45,8 @@ namespace dieflow
       {
         A.vmult(dst.block(0), src.block(0));
         scale_pressure(pressure, src.block(1));
-        blocks.gradient.vmult_add(dst.block(0), pressure);
-        blocks.divergence.vmult(dst.block(1), src.block(0));
+        gradient.vmult_add(dst.block(0), pressure);
+        divergence.vmult(dst.block(1), src.block(0));
         scale_pressure(dst.block(1), dst.block(1));
         blocks.mass_vmult(pressure, src.block(1), scale_squared_over_penalty);
         dst.block(1) -= pressure;
@@ -57,7 +62,8 @@ namespace dieflow
           dst[i] = scale[i / blocks.n_modes] * src[i];
       }
 
-      const dealii::SparseMatrix<double> &A;
+      /// A, B^T and B, their products divided among the MPI processes.
+      const RowBlockMatrix                A, gradient, divergence;
       const MixedPenalty<dim> &           blocks;
       const dealii::Vector<double> &      scale;
       dealii::Vector<double>              scale_squared_over_penalty;
@@ -72,8 +78,8 @@ namespace dieflow
     class VelocityBlockInverse
     {
     public:
-      VelocityBlockInverse(const dealii::SparseMatrix<double> &             A,
-                           const dealii::TrilinosWrappers::PreconditionAMG &amg,
+      VelocityBlockInverse(const RowBlockMatrix &                           A,
+                           const RowBlockAMG &                              amg,
                            const PMultigrid<dim> *                          p_multigrid,
                            const bool                                       symmetric,
                            const double                                     tolerance,
@@ -134,8 +140,8 @@ namespace dieflow
           amg.vmult(dst, src);
       }
 
-      const dealii::SparseMatrix<double> &             A;
-      const dealii::TrilinosWrappers::PreconditionAMG &amg;
+      const RowBlockMatrix &                           A;
+      const RowBlockAMG &                              amg;
       const PMultigrid<dim> *                          p_multigrid;
       const bool                                       symmetric;
       const double                                     tolerance;
@@ -166,7 +172,7 @@ namespace dieflow
       {
         op.blocks.inverse_mass_vmult(dst.block(1), src.block(1), schur_factor);
         op.scale_pressure(pressure, dst.block(1));
-        op.blocks.gradient.vmult(residual, pressure);
+        op.gradient.vmult(residual, pressure);
         residual.sadd(-1., 1., src.block(0));
         velocity_inverse.vmult(dst.block(0), residual);
       }
@@ -188,7 +194,10 @@ namespace dieflow
                        const unsigned int                 shortest,
                        const unsigned int                 vectors_per_iteration)
     {
-      const double available = LinearSolver::available_memory();
+      // The least any process has: every process must choose the same length.
+      const double available = processes::n() > 1 ?
+                                 dealii::Utilities::MPI::min(LinearSolver::available_memory(), processes::communicator()) :
+                                 LinearSolver::available_memory();
       if (available == 0)
         return long_restart;
       const double per_iteration = vectors_per_iteration * sizeof(double) * static_cast<double>(x.size());
@@ -257,9 +266,8 @@ namespace dieflow
     if (cycle != nullptr)
       cycle->initialize(A, constraints, flow);
     else
-      initialize_with_rigid_body_modes<dim>(velocity_preconditioner, velocity_matrix, A, modes,
-                                            velocity_amg_data({}, true));
-    const VelocityBlockInverse<dim> velocity_inverse(A, velocity_preconditioner, cycle, symmetric, inner_tolerance,
+      velocity_preconditioner.initialize<dim>(A, modes, velocity_amg_data({}, true));
+    const VelocityBlockInverse<dim> velocity_inverse(op.A, velocity_preconditioner, cycle, symmetric, inner_tolerance,
                                                      max_inner_iterations);
     const BlockTriangularPreconditioner<dim> preconditioner(op, velocity_inverse);
 

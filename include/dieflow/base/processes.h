@@ -12,6 +12,7 @@
 
 #include <ostream>
 #include <utility>
+#include <vector>
 
 namespace dieflow
 {
@@ -88,6 +89,8 @@ namespace dieflow
     sum(dealii::Vector<double> &v);
     void
     sum(dealii::SparseMatrix<double> &matrix);
+    void
+    sum(std::vector<double> &v);
 
     /**
      * Throws std::logic_error naming @p where unless every process holds
@@ -100,14 +103,16 @@ namespace dieflow
     require_same(const dealii::Vector<double> &v, const char *where);
 
     /// The rows of an @p n x @p n system this process owns in a distributed
-    /// solve: a contiguous block, [n r / P, n (r + 1) / P) on process r.
+    /// solve: a contiguous block, [n r / P, n (r + 1) / P) on process r,
+    /// its ends rounded down to multiples of @p block (@p n one itself).
     dealii::IndexSet
-    owned_rows(const dealii::types::global_dof_index n);
+    owned_rows(const dealii::types::global_dof_index n, const unsigned int block = 1);
 
-    /// Where each process holds the entries of its owned_rows() in @p v,
-    /// gives every process all of them (the same bits everywhere).
+    /// Where each process holds the entries of its owned_rows(v.size(),
+    /// @p block) in @p v, gives every process all of them (the same bits
+    /// everywhere).
     void
-    gather(dealii::Vector<double> &v);
+    gather(dealii::Vector<double> &v, const unsigned int block = 1);
 
     /**
      * Divides the active cells among the processes with METIS (on the

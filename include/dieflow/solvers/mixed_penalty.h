@@ -44,9 +44,14 @@ namespace dieflow
            const dealii::AffineConstraints<double> &hanging,
            const unsigned int                       modes_per_cell);
 
-    /// Zeroes the matrices before an assembly.
+    /// Zeroes the matrices and the cell data before an assembly.
     void
     clear_values();
+
+    /// After an assembly in which each MPI process set its own cells: the
+    /// sums, the whole blocks on every process (processes::sum()).
+    void
+    sum_over_processes();
 
     unsigned int
     n_pressure() const

@@ -3,6 +3,7 @@
 #define dieflow_p_multigrid_h
 
 #include <dieflow/solvers/rigid_body_modes.h>
+#include <dieflow/solvers/row_blocks.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_q.h>
@@ -83,10 +84,10 @@ namespace dieflow
     dealii::SparseMatrix<double>              product, coarse_matrix;
     bool                                      patterns_built = false;
     dealii::Vector<double>                    free;
-    const dealii::SparseMatrix<double> *      matrix = nullptr;
-    dealii::PreconditionChebyshev<dealii::SparseMatrix<double>, dealii::Vector<double>> smoother;
-    dealii::TrilinosWrappers::SparseMatrix    coarse_copy;
-    dealii::TrilinosWrappers::PreconditionAMG coarse_amg;
+    /// A, its products divided among the MPI processes (RowBlockMatrix).
+    RowBlockMatrix                            matrix;
+    dealii::PreconditionChebyshev<RowBlockMatrix, dealii::Vector<double>> smoother;
+    RowBlockAMG                               coarse_amg;
     mutable dealii::Vector<double>            residual, coarse_residual, coarse_correction;
   };
 } // namespace dieflow

@@ -6,6 +6,7 @@
 #include <dieflow/solvers/iterative_solver.h>
 #include <dieflow/solvers/p_multigrid.h>
 #include <dieflow/solvers/rigid_body_modes.h>
+#include <dieflow/solvers/row_blocks.h>
 
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
@@ -108,8 +109,7 @@ namespace dieflow
   private:
     MpiOnFirstUse                             mpi;
     std::vector<double>                       modes;
-    dealii::TrilinosWrappers::SparseMatrix    velocity_matrix;
-    dealii::TrilinosWrappers::PreconditionAMG velocity_preconditioner;
+    RowBlockAMG                               velocity_preconditioner;
     std::unique_ptr<PMultigrid<dim>>          p_multigrid;
   };
 } // namespace dieflow

@@ -1,0 +1,102 @@
+// Operators of the replicated systems applied across the MPI processes: each computes its block of rows, the result gathered (a sparse matrix, an ML hierarchy).
+#ifndef dieflow_row_blocks_h
+#define dieflow_row_blocks_h
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/subscriptor.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <vector>
+
+namespace dieflow
+{
+  /**
+   * y = M x for a sparse matrix M every process holds whole (processes.h):
+   * on one process deal.II's own (threaded) product; on P processes each
+   * computes the rows of its block (processes::owned_rows()) and the
+   * blocks are gathered, so every process holds the same bits of y at a
+   * P-th of the work. The matrix interface PreconditionChebyshev (which
+   * subscribes to it) and the Krylov solvers need (m(), el(), vmult()).
+   */
+  class RowBlockMatrix : public dealii::Subscriptor
+  {
+  public:
+    using size_type  = dealii::types::global_dof_index;
+    using value_type = double;
+
+    RowBlockMatrix() = default;
+    explicit RowBlockMatrix(const dealii::SparseMatrix<double> &matrix);
+
+    /// Refers to @p matrix (kept alive by the caller).
+    void
+    reinit(const dealii::SparseMatrix<double> &matrix);
+
+    size_type
+    m() const
+    {
+      return matrix->m();
+    }
+    size_type
+    n() const
+    {
+      return matrix->n();
+    }
+    double
+    el(const size_type i, const size_type j) const
+    {
+      return matrix->el(i, j);
+    }
+
+    /// dst = M src.
+    void
+    vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+    /// dst += M src.
+    void
+    vmult_add(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+    /// dst = b - M x.
+    void
+    residual(dealii::Vector<double> &dst, const dealii::Vector<double> &x, const dealii::Vector<double> &b) const;
+
+  private:
+    const dealii::SparseMatrix<double> *matrix = nullptr;
+    size_type                           first = 0, last = 0;
+  };
+
+
+
+  /**
+   * One ML smoothed-aggregation V-cycle for a velocity block with the
+   * rigid-body modes (and further near-null vectors) as near-null space
+   * (initialize_with_rigid_body_modes()), built across the processes where
+   * there are several: each process's block of rows (whole nodes: blocks of
+   * @p pde_equations rows) in a distributed Trilinos matrix, ML's hierarchy
+   * over all of them, the cycle's result gathered.
+   */
+  class RowBlockAMG
+  {
+  public:
+    template <int dim>
+    void
+    initialize(const dealii::SparseMatrix<double> &                              matrix,
+               const std::vector<double> &                                       modes,
+               const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data,
+               const unsigned int                                                pde_equations      = 1,
+               const unsigned int                                                prolongator_sweeps = 1);
+
+    /// dst = one V-cycle applied to src.
+    void
+    vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+
+  private:
+    dealii::IndexSet                          rows;
+    unsigned int                              block = 1;
+    dealii::TrilinosWrappers::SparseMatrix    copy;
+    dealii::TrilinosWrappers::PreconditionAMG amg;
+    std::vector<double>                       local_modes;
+  };
+} // namespace dieflow
+
+#endif

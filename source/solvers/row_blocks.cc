@@ -1,0 +1,157 @@
+// Operators of the replicated systems applied across the MPI processes: each computes its block of rows, the result gathered (a sparse matrix, an ML hierarchy).
+#include <dieflow/base/processes.h>
+#include <dieflow/solvers/rigid_body_modes.h>
+#include <dieflow/solvers/row_blocks.h>
+
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <Teuchos_ParameterList.hpp>
+
+namespace dieflow
+{
+  RowBlockMatrix::RowBlockMatrix(const dealii::SparseMatrix<double> &matrix)
+  {
+    reinit(matrix);
+  }
+
+
+
+  void
+  RowBlockMatrix::reinit(const dealii::SparseMatrix<double> &m)
+  {
+    matrix                   = &m;
+    const dealii::IndexSet r = processes::owned_rows(m.m());
+    first                    = r.n_elements() > 0 ? r.nth_index_in_set(0) : 0;
+    last                     = first + r.n_elements();
+  }
+
+
+
+  void
+  RowBlockMatrix::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  {
+    if (processes::n() == 1)
+      {
+        matrix->vmult(dst, src);
+        return;
+      }
+    if (dst.size() != matrix->m())
+      dst.reinit(matrix->m());
+    for (size_type row = first; row < last; ++row)
+      {
+        double sum = 0;
+        for (auto entry = matrix->begin(row); entry != matrix->end(row); ++entry)
+          sum += entry->value() * src[entry->column()];
+        dst[row] = sum;
+      }
+    processes::gather(dst);
+  }
+
+
+
+  void
+  RowBlockMatrix::vmult_add(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  {
+    if (processes::n() == 1)
+      {
+        matrix->vmult_add(dst, src);
+        return;
+      }
+    dealii::Vector<double> product(matrix->m());
+    vmult(product, src);
+    dst += product;
+  }
+
+
+
+  void
+  RowBlockMatrix::residual(dealii::Vector<double> &      dst,
+                           const dealii::Vector<double> &x,
+                           const dealii::Vector<double> &b) const
+  {
+    if (processes::n() == 1)
+      {
+        matrix->residual(dst, x, b);
+        return;
+      }
+    vmult(dst, x);
+    dst.sadd(-1., 1., b);
+  }
+
+
+
+  template <int dim>
+  void
+  RowBlockAMG::initialize(const dealii::SparseMatrix<double> &                              matrix,
+                          const std::vector<double> &                                       modes,
+                          const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data,
+                          const unsigned int                                                pde_equations,
+                          const unsigned int                                                prolongator_sweeps)
+  {
+    if (processes::n() == 1)
+      {
+        initialize_with_rigid_body_modes<dim>(amg, copy, matrix, modes, data, pde_equations, prolongator_sweeps);
+        return;
+      }
+    // Whole nodes per process: ML aggregates the pde_equations rows of a node together.
+    block = pde_equations;
+    rows  = processes::owned_rows(matrix.m(), block);
+    // A pattern made afresh: on one it knows, Trilinos's copy would keep
+    // the old value where the new one is zero.
+    copy.clear();
+    copy.reinit(rows, rows, matrix, processes::communicator());
+    Teuchos::ParameterList              parameters;
+    std::unique_ptr<Epetra_MultiVector> constant_modes;
+    data.set_parameters(parameters, constant_modes, copy);
+    // ML reads this process's rows of each near-null vector, one after the
+    // other, while initialize() builds the hierarchy.
+    const std::size_t n = matrix.m(), n_local = rows.n_elements(), n_modes = modes.size() / n;
+    const std::size_t first = n_local > 0 ? rows.nth_index_in_set(0) : 0;
+    local_modes.resize(n_modes * n_local);
+    for (std::size_t k = 0; k < n_modes; ++k)
+      for (std::size_t i = 0; i < n_local; ++i)
+        local_modes[k * n_local + i] = modes[k * n + first + i];
+    parameters.set("null space: type", "pre-computed");
+    parameters.set("null space: dimension", static_cast<int>(n_modes));
+    parameters.set("null space: vectors", local_modes.data());
+    if (pde_equations > 1)
+      parameters.set("PDE equations", static_cast<int>(pde_equations));
+    parameters.set("aggregation: smoothing sweeps", static_cast<int>(prolongator_sweeps));
+    amg.initialize(copy, parameters);
+  }
+
+
+
+  void
+  RowBlockAMG::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  {
+    if (processes::n() == 1)
+      {
+        amg.vmult(dst, src);
+        return;
+      }
+    dealii::TrilinosWrappers::MPI::Vector x(rows, processes::communicator()), y(x);
+    for (const auto row : rows)
+      x[row] = src[row];
+    x.compress(dealii::VectorOperation::insert);
+    amg.vmult(y, x);
+    if (dst.size() != src.size())
+      dst.reinit(src.size());
+    for (const auto row : rows)
+      dst[row] = y[row];
+    processes::gather(dst, block);
+  }
+
+  template void
+  RowBlockAMG::initialize<2>(const dealii::SparseMatrix<double> &,
+                             const std::vector<double> &,
+                             const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &,
+                             const unsigned int,
+                             const unsigned int);
+  template void
+  RowBlockAMG::initialize<3>(const dealii::SparseMatrix<double> &,
+                             const std::vector<double> &,
+                             const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &,
+                             const unsigned int,
+                             const unsigned int);
+} // namespace dieflow

@@ -1,0 +1,168 @@
+// Runs of a deck on P MPI processes for the tests (the test program launches itself under mpirun), and the comparison of their summary.json files.
+#ifndef dieflow_tests_mpi_runs_h
+#define dieflow_tests_mpi_runs_h
+
+#include <dieflow/problem/run.h>
+
+#include "report.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace mpi_runs
+{
+  using Json = nlohmann::json;
+
+  /// The text of parameters/@p name with @p changes: each "set Entry = value"
+  /// replaces the entry's line (which must be there), in the order given.
+  inline std::string
+  shipped_deck(const std::string &name, const std::vector<std::string> &changes)
+  {
+    std::string text = file_contents(std::string(SOURCE_DIR) + "/../parameters/" + name);
+    for (const auto &change : changes)
+      {
+        const std::string entry = change.substr(4, change.find('=') - 4);
+        const std::regex  line("\\n(\\s*)set " + std::regex_replace(entry, std::regex("\\s+$"), "") + "\\s*=[^\\n]*");
+        if (!std::regex_search(text, line))
+          {
+            std::cout << "the deck " << name << " has no entry " << entry << std::endl;
+            std::exit(1);
+          }
+        text = std::regex_replace(text, line, "\n$1" + change, std::regex_constants::format_first_only);
+      }
+    return text;
+  }
+
+  /// The deck tests/@p name without its Output directory and its Test subsection (the check driver's).
+  inline std::string
+  test_deck(const std::string &name)
+  {
+    const std::string text = file_contents(std::string(SOURCE_DIR) + "/" + name);
+    return std::regex_replace(std::regex_replace(text, std::regex("set Output directory[^\\n]*"), ""),
+                              std::regex("subsection Test[\\s\\S]*"), "");
+  }
+
+  struct Run
+  {
+    int         status = -1;
+    Json        summary;
+    std::string error;
+    std::string directory;
+  };
+
+  /// Runs @p deck (a text) on @p processes MPI processes in the folder @p name.
+  inline Run
+  launch(const std::string &name, const std::string &deck, const unsigned int processes)
+  {
+    Run run;
+    run.directory = name + "-" + std::to_string(processes);
+    std::filesystem::remove_all(run.directory);
+    std::filesystem::create_directories(run.directory);
+    const std::string output = "set Output directory = " + run.directory + "/results";
+    const std::regex  entry("set Output directory[^\\n]*");
+    std::ofstream(run.directory + "/deck.prm")
+      << (std::regex_search(deck, entry) ? std::regex_replace(deck, entry, output) : output + "\n" + deck);
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+    const std::string command = "mpirun --oversubscribe --bind-to none -np " + std::to_string(processes) + " " + self +
+                                " --deck " + run.directory + "/deck.prm > " + run.directory + "/out.txt 2> " +
+                                run.directory + "/err.txt";
+    const int status = std::system(command.c_str());
+    run.status       = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    // The program's lines (mpirun adds its own where a process exits non-zero).
+    std::istringstream error(file_contents(run.directory + "/err.txt"));
+    for (std::string line; std::getline(error, line);)
+      if (line.rfind("dieflow:", 0) == 0)
+        run.error += line + "\n";
+    std::ifstream summary(run.directory + "/results/summary.json");
+    if (summary)
+      run.summary = Json::parse(summary);
+    return run;
+  }
+
+  inline double
+  relative(const double a, const double b)
+  {
+    return a == b ? 0. : std::abs(a - b) / std::max(std::abs(a), std::abs(b));
+  }
+
+  /// Whether @p b's cycles reproduce @p a's: the same cells and Newton
+  /// iterations (@p same_iterations), the same contact states, every
+  /// quantity (@p with_quantities) and the errors against an exact solution
+  /// within @p tolerance; the largest relative gap into @p gap.
+  inline bool
+  same_answer(const Run &   a,
+              const Run &   b,
+              const double  tolerance,
+              const bool    same_iterations,
+              double &      gap,
+              const bool    with_quantities = true)
+  {
+    gap = 0;
+    if (a.status != 0 || b.status != 0 || !a.summary.is_object() || !b.summary.is_object() ||
+        a.summary["cycles"].size() != b.summary["cycles"].size() || a.summary["cycles"].empty())
+      return false;
+    bool same = true;
+    for (unsigned int c = 0; c < a.summary["cycles"].size(); ++c)
+      {
+        const Json &x = a.summary["cycles"][c], &y = b.summary["cycles"][c];
+        same = same && x["cells"] == y["cells"] && x["contact_nodes"] == y["contact_nodes"];
+        if (same_iterations)
+          same = same && x["nonlinear_iterations"] == y["nonlinear_iterations"];
+        if (with_quantities)
+          for (const auto &[name, value] : x["quantities"].items())
+            gap = std::max(gap, relative(value.get<double>(), y["quantities"][name].get<double>()));
+        for (const char *error : {"velocity_l2_error", "velocity_h1_error"})
+          if (x.contains(error) && x[error].is_number())
+            gap = std::max(gap, relative(x[error].get<double>(), y[error].get<double>()));
+      }
+    return same && gap < tolerance;
+  }
+
+  /// The cells a .vtu file of deal.II's holds (the sum over its pieces); 0 if none or no file.
+  inline long
+  vtu_cells(const std::string &file)
+  {
+    const std::string text  = file_contents(file);
+    const std::regex  piece("NumberOfCells=\"([0-9]+)\"");
+    long              cells = 0;
+    for (auto m = std::sregex_iterator(text.begin(), text.end(), piece); m != std::sregex_iterator(); ++m)
+      cells += std::stol((*m)[1]);
+    return cells;
+  }
+
+  inline bool
+  one_line(const std::string &text)
+  {
+    return !text.empty() && text.find('\n') == text.size() - 1;
+  }
+
+
+  /// Where this program was launched by launch() (`--deck FILE`): runs that
+  /// process of the deck and returns its exit status; else -1, after setting
+  /// what mpirun needs in the suite (root, as CI runs it; no thread count).
+  inline int
+  launched_process(int argc, char **argv)
+  {
+    if (argc == 3 && std::string(argv[1]) == "--deck")
+      {
+        char *arguments[] = {argv[0], argv[2], nullptr};
+        return dieflow::run_command_line(2, arguments);
+      }
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    unsetenv("DEAL_II_NUM_THREADS");
+    return -1;
+  }
+} // namespace mpi_runs
+
+#endif
