@@ -59,11 +59,12 @@ namespace dieflow
 
   template <int dim>
   void
-  PMultigrid<dim>::initialize(const dealii::SparseMatrix<double> &      A,
+  PMultigrid<dim>::initialize(const RowBlockMatrix &                    A_rows,
                               const dealii::AffineConstraints<double> &constraints,
                               const dealii::Vector<double> *           flow)
   {
-    matrix.reinit(A);
+    matrix                                = &A_rows;
+    const dealii::SparseMatrix<double> &A = A_rows.whole();
     free.reinit(A.m());
     for (unsigned int i = 0; i < A.m(); ++i)
       free[i] = constraints.is_constrained(i) ? 0. : 1.;
@@ -108,7 +109,7 @@ namespace dieflow
     data.smoothing_range      = 15;
     data.eig_cg_n_iterations  = 12;
     data.eigenvalue_algorithm = decltype(data)::EigenvalueAlgorithm::power_iteration;
-    smoother.initialize(matrix, data);
+    smoother.initialize(A_rows, data);
 
     // The rigid-body modes, and the flow as one more where it is given.
     std::vector<double> modes_with_flow;
@@ -160,7 +161,7 @@ namespace dieflow
   PMultigrid<dim>::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
   {
     smoother.vmult(dst, src);
-    matrix.residual(residual, dst, src);
+    matrix->residual(residual, dst, src);
     residual.scale(free);
     embedding.Tvmult(coarse_residual, residual);
     coarse_amg.vmult(coarse_correction, coarse_residual);

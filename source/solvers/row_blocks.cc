@@ -3,12 +3,25 @@
 #include <dieflow/solvers/rigid_body_modes.h>
 #include <dieflow/solvers/row_blocks.h>
 
-#include <deal.II/lac/trilinos_vector.h>
-
 #include <Teuchos_ParameterList.hpp>
+
+#include <algorithm>
 
 namespace dieflow
 {
+  namespace
+  {
+    /// The first index of @p set, a contiguous range (0 where it is empty:
+    /// a process may own no rows of a small block).
+    std::size_t
+    first_index(const dealii::IndexSet &set)
+    {
+      return set.n_elements() > 0 ? set.nth_index_in_set(0) : 0;
+    }
+  } // namespace
+
+
+
   RowBlockMatrix::RowBlockMatrix(const dealii::SparseMatrix<double> &matrix)
   {
     reinit(matrix);
@@ -19,10 +32,17 @@ namespace dieflow
   void
   RowBlockMatrix::reinit(const dealii::SparseMatrix<double> &m)
   {
-    matrix                   = &m;
-    const dealii::IndexSet r = processes::owned_rows(m.m());
-    first                    = r.n_elements() > 0 ? r.nth_index_in_set(0) : 0;
-    last                     = first + r.n_elements();
+    matrix = &m;
+    if (processes::n() == 1)
+      return;
+    rows    = processes::owned_rows(m.m());
+    columns = processes::owned_rows(m.n());
+    // A pattern made afresh, every entry kept: on a pattern it knows,
+    // Trilinos's copy would keep the old value where the new one is zero.
+    block.clear();
+    block.reinit(rows, columns, m, processes::communicator(), 0.);
+    x.reinit(columns, processes::communicator());
+    y.reinit(rows, processes::communicator());
   }
 
 
@@ -37,13 +57,10 @@ namespace dieflow
       }
     if (dst.size() != matrix->m())
       dst.reinit(matrix->m());
-    for (size_type row = first; row < last; ++row)
-      {
-        double sum = 0;
-        for (auto entry = matrix->begin(row); entry != matrix->end(row); ++entry)
-          sum += entry->value() * src[entry->column()];
-        dst[row] = sum;
-      }
+    // The local elements of a Trilinos vector are contiguous: begin() points at them.
+    std::copy(src.begin() + first_index(columns), src.begin() + first_index(columns) + columns.n_elements(), x.begin());
+    block.vmult(y, x);
+    std::copy(y.begin(), y.end(), dst.begin() + first_index(rows));
     processes::gather(dst);
   }
 
@@ -106,7 +123,7 @@ namespace dieflow
     // ML reads this process's rows of each near-null vector, one after the
     // other, while initialize() builds the hierarchy.
     const std::size_t n = matrix.m(), n_local = rows.n_elements(), n_modes = modes.size() / n;
-    const std::size_t first = n_local > 0 ? rows.nth_index_in_set(0) : 0;
+    const std::size_t first = first_index(rows);
     local_modes.resize(n_modes * n_local);
     for (std::size_t k = 0; k < n_modes; ++k)
       for (std::size_t i = 0; i < n_local; ++i)
@@ -131,14 +148,11 @@ namespace dieflow
         return;
       }
     dealii::TrilinosWrappers::MPI::Vector x(rows, processes::communicator()), y(x);
-    for (const auto row : rows)
-      x[row] = src[row];
-    x.compress(dealii::VectorOperation::insert);
+    std::copy(src.begin() + first_index(rows), src.begin() + first_index(rows) + rows.n_elements(), x.begin());
     amg.vmult(y, x);
     if (dst.size() != src.size())
       dst.reinit(src.size());
-    for (const auto row : rows)
-      dst[row] = y[row];
+    std::copy(y.begin(), y.end(), dst.begin() + first_index(rows));
     processes::gather(dst, block);
   }
 

@@ -26,10 +26,10 @@ namespace dieflow
     class MixedOperator
     {
     public:
-      MixedOperator(const dealii::SparseMatrix<double> &A_matrix,
-                    const MixedPenalty<dim> &           blocks,
-                    const dealii::Vector<double> &      scale)
-        : A(A_matrix)
+      MixedOperator(const RowBlockMatrix &          A,
+                    const MixedPenalty<dim> &       blocks,
+                    const dealii::Vector<double> &  scale)
+        : A(A)
         , gradient(blocks.gradient)
         , divergence(blocks.divergence)
         , blocks(blocks)
@@ -63,7 +63,8 @@ namespace dieflow
       }
 
       /// A, B^T and B, their products divided among the MPI processes.
-      const RowBlockMatrix                A, gradient, divergence;
+      const RowBlockMatrix &              A;
+      const RowBlockMatrix                gradient, divergence;
       const MixedPenalty<dim> &           blocks;
       const dealii::Vector<double> &      scale;
       dealii::Vector<double>              scale_squared_over_penalty;
@@ -246,7 +247,8 @@ namespace dieflow
     for (unsigned int c = 0; c < blocks.n_cells; ++c)
       scale[c] = blocks.viscosity[c] / blocks.size[c];
 
-    const MixedOperator<dim> op(A, blocks, scale);
+    velocity_block.reinit(A);
+    const MixedOperator<dim> op(velocity_block, blocks, scale);
     dealii::BlockVector<double> x(std::vector<dealii::types::global_dof_index>{A.m(), blocks.n_pressure()});
     dealii::BlockVector<double> b(x);
     b.block(0) = rhs_velocity;
@@ -264,7 +266,7 @@ namespace dieflow
     // they save (doc/benchmarks.md, "Figures behind the code's rules").
     PMultigrid<dim> *const cycle = p_multigrid.get();
     if (cycle != nullptr)
-      cycle->initialize(A, constraints, flow);
+      cycle->initialize(velocity_block, constraints, flow);
     else
       velocity_preconditioner.initialize<dim>(A, modes, velocity_amg_data({}, true));
     const VelocityBlockInverse<dim> velocity_inverse(op.A, velocity_preconditioner, cycle, symmetric, inner_tolerance,

@@ -64,7 +64,7 @@ namespace dieflow
      * a Newtonian law (m = 1: no softer direction, only more memory).
      */
     void
-    initialize(const dealii::SparseMatrix<double> &      A,
+    initialize(const RowBlockMatrix &                    A,
                const dealii::AffineConstraints<double> &constraints,
                const dealii::Vector<double> *           flow = nullptr);
 
@@ -84,8 +84,8 @@ namespace dieflow
     dealii::SparseMatrix<double>              product, coarse_matrix;
     bool                                      patterns_built = false;
     dealii::Vector<double>                    free;
-    /// A, its products divided among the MPI processes (RowBlockMatrix).
-    RowBlockMatrix                            matrix;
+    /// A (the saddle-point solver's), its products divided among the MPI processes.
+    const RowBlockMatrix *                    matrix = nullptr;
     dealii::PreconditionChebyshev<RowBlockMatrix, dealii::Vector<double>> smoother;
     RowBlockAMG                               coarse_amg;
     mutable dealii::Vector<double>            residual, coarse_residual, coarse_correction;

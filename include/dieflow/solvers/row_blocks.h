@@ -7,6 +7,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/lac/vector.h>
 
 #include <vector>
@@ -16,9 +17,10 @@ namespace dieflow
   /**
    * y = M x for a sparse matrix M every process holds whole (processes.h):
    * on one process deal.II's own (threaded) product; on P processes each
-   * computes the rows of its block (processes::owned_rows()) and the
-   * blocks are gathered, so every process holds the same bits of y at a
-   * P-th of the work. The matrix interface PreconditionChebyshev (which
+   * multiplies its block of rows (processes::owned_rows()), copied once
+   * into a distributed Trilinos matrix (Epetra's product, which imports
+   * the columns it needs), and the blocks are gathered, so every process
+   * holds the same bits of y at a P-th of the work. The matrix interface PreconditionChebyshev (which
    * subscribes to it) and the Krylov solvers need (m(), el(), vmult()).
    */
   class RowBlockMatrix : public dealii::Subscriptor
@@ -30,9 +32,16 @@ namespace dieflow
     RowBlockMatrix() = default;
     explicit RowBlockMatrix(const dealii::SparseMatrix<double> &matrix);
 
-    /// Refers to @p matrix (kept alive by the caller).
+    /// Refers to @p matrix (kept alive by the caller; its values taken now).
     void
     reinit(const dealii::SparseMatrix<double> &matrix);
+
+    /// The whole matrix.
+    const dealii::SparseMatrix<double> &
+    whole() const
+    {
+      return *matrix;
+    }
 
     size_type
     m() const
@@ -62,7 +71,10 @@ namespace dieflow
 
   private:
     const dealii::SparseMatrix<double> *matrix = nullptr;
-    size_type                           first = 0, last = 0;
+    /// On P > 1: this process's rows and the columns its vectors own.
+    dealii::IndexSet                              rows, columns;
+    dealii::TrilinosWrappers::SparseMatrix        block;
+    mutable dealii::TrilinosWrappers::MPI::Vector x, y;
   };
 
 

@@ -109,6 +109,8 @@ namespace dieflow
   private:
     MpiOnFirstUse                             mpi;
     std::vector<double>                       modes;
+    /// A, its products divided among the MPI processes (before p_multigrid, which refers to it).
+    RowBlockMatrix                            velocity_block;
     RowBlockAMG                               velocity_preconditioner;
     std::unique_ptr<PMultigrid<dim>>          p_multigrid;
   };
