@@ -17,6 +17,9 @@
 //    (p-multigrid, 4 adaptive cycles, Coulomb) on 2 and 3 processes and on
 //    the 3D rectangular bar quarter (AMG on Q2 with inner solves, Coulomb)
 //    on 2: every solve iterative, the same answer as on 1.
+// That the work is divided is not observable here (a product of the whole
+// matrix on every process would pass): its time is measured in
+// doc/parallel.md.
 #include "mpi_runs.h"
 
 using namespace mpi_runs;
@@ -87,7 +90,8 @@ main(int argc, char **argv)
     const auto iterative_everywhere = [](const Run &run) {
       bool all = run.summary.is_object() && !run.summary["cycles"].empty();
       for (const auto &cycle : all ? run.summary["cycles"] : Json::array())
-        all = all && cycle["linear_solver"]["method"] == "iterative" && cycle["linear_solver"]["direct_fallbacks"] == 0;
+        all = all && cycle["linear_solver"]["method"] == "iterative" && cycle["linear_solver"]["iterative_solves"] > 0 &&
+              cycle["linear_solver"]["direct_fallbacks"] == 0;
       return all;
     };
     const std::string die2d = shipped_deck("die2d-held-land.prm", {"set Write VTU = false"}) + iterative;

@@ -202,7 +202,10 @@ namespace dieflow
       dealii::types::global_dof_index
       first_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r)
       {
-        return r == n_processes ? n : block * (((n / block) * r) / n_processes);
+        // In 64 bits: (n / block) r overflows a 32-bit index from n r = 2^32 on.
+        const std::uint64_t blocks = n / block;
+        return r == n_processes ? n :
+                                  static_cast<dealii::types::global_dof_index>(block * ((blocks * r) / n_processes));
       }
     } // namespace
 

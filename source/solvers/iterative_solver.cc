@@ -128,6 +128,7 @@ namespace dieflow
     // The operator as it is (no entry dropped: the Krylov method multiplies
     // with it), its pattern made afresh: on a pattern it knows, Trilinos's
     // copy would keep the old value where the new one is zero.
+    preconditioner.clear();
     distributed_matrix.clear();
     distributed_matrix.reinit(rows, rows, matrix, processes::communicator(), 0.);
     preconditioner.initialize(distributed_matrix, velocity_amg_data(constant_modes, false));

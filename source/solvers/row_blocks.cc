@@ -115,6 +115,7 @@ namespace dieflow
     rows  = processes::owned_rows(matrix.m(), block);
     // A pattern made afresh: on one it knows, Trilinos's copy would keep
     // the old value where the new one is zero.
+    amg.clear();
     copy.clear();
     copy.reinit(rows, rows, matrix, processes::communicator());
     Teuchos::ParameterList              parameters;
@@ -124,7 +125,8 @@ namespace dieflow
     // other, while initialize() builds the hierarchy.
     const std::size_t n = matrix.m(), n_local = rows.n_elements(), n_modes = modes.size() / n;
     const std::size_t first = first_index(rows);
-    local_modes.resize(n_modes * n_local);
+    // (at least one entry: ML stops a process whose null space pointer is null)
+    local_modes.resize(std::max<std::size_t>(1, n_modes * n_local));
     for (std::size_t k = 0; k < n_modes; ++k)
       for (std::size_t i = 0; i < n_local; ++i)
         local_modes[k * n_local + i] = modes[k * n + first + i];
