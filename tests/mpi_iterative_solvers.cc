@@ -24,6 +24,20 @@
 
 using namespace mpi_runs;
 
+namespace
+{
+  /// Whether every cycle of @p run solved its Newton systems iteratively, none falling back to the direct solver.
+  bool
+  iterative_everywhere(const Run &run)
+  {
+    bool all = run.summary.is_object() && !run.summary["cycles"].empty();
+    for (const auto &cycle : all ? run.summary["cycles"] : Json::array())
+      all = all && cycle["linear_solver"]["method"] == "iterative" && cycle["linear_solver"]["iterative_solves"] > 0 &&
+            cycle["linear_solver"]["direct_fallbacks"] == 0;
+    return all;
+  }
+} // namespace
+
 
 
 int
@@ -49,13 +63,6 @@ main(int argc, char **argv)
                                 " set Rate sensitivity m = 0.2\n set Minimum strain rate = 1e-4\nend\n";
     const auto        solver  = [](const std::string &method) {
       return "subsection Linear solver\n set Method = " + method + "\nend\n";
-    };
-    const auto iterative_everywhere = [](const Run &run) {
-      bool all = run.summary.is_object() && !run.summary["cycles"].empty();
-      for (const auto &cycle : all ? run.summary["cycles"] : Json::array())
-        all = all && cycle["linear_solver"]["method"] == "iterative" && cycle["linear_solver"]["iterative_solves"] > 0 &&
-              cycle["linear_solver"]["direct_fallbacks"] == 0;
-      return all;
     };
     for (const auto &[name, law] : {std::pair{"N1", std::string()}, std::pair{"P1", p1}})
       {
@@ -87,13 +94,6 @@ main(int argc, char **argv)
     // so the iterates differ at that level and Newton's converged answers
     // agree to its tolerance (measured 3.5e-8 and 2e-8 on an AMD EPYC).
     const std::string iterative = "\nsubsection Linear solver\n  set Method = iterative\nend\n";
-    const auto iterative_everywhere = [](const Run &run) {
-      bool all = run.summary.is_object() && !run.summary["cycles"].empty();
-      for (const auto &cycle : all ? run.summary["cycles"] : Json::array())
-        all = all && cycle["linear_solver"]["method"] == "iterative" && cycle["linear_solver"]["iterative_solves"] > 0 &&
-              cycle["linear_solver"]["direct_fallbacks"] == 0;
-      return all;
-    };
     const std::string die2d = shipped_deck("die2d-held-land.prm", {"set Write VTU = false"}) + iterative;
     const Run one = launch("mixed-die2d", die2d, 1), two = launch("mixed-die2d", die2d, 2),
               three = launch("mixed-die2d", die2d, 3);
