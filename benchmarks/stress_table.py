@@ -183,10 +183,10 @@ plane-strain compression, whose exact solution is known. Each must converge
 and keep its laws (the checks in its `subsection Test`, run by
 `./setup.sh test`), or stop with exit status 2 and say what failed and what
 to change; never NaN, a hang or a crash. `stress_mu_1_coarse` is meant to
-stop with exit status 2, and so is `stress_penalty_1e3`, whose Newton
-iteration converges but whose penalty loses 7 % of the flow: the
-mass-balance guard refuses it (doc/user-guide.md, "When a converged
-iteration is still not converged").
+stop with exit status 2. `stress_penalty_1e3`'s penalty alone loses 7.5 %
+of the flow: once Newton has converged it turns augmented (Uzawa steps,
+solved directly) and converges incompressible (doc/user-guide.md, "When a
+converged iteration is still not converged").
 
 This page shows what each deck costs and how it ends. Exit status 0 means
 converged, 2 not converged (summary.json is still written), 1 bad input.

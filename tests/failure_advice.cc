@@ -226,17 +226,20 @@ main()
   // limit of double precision, and the augmented Lagrangian's tolerance.
   MassBalance balance;
   balance.loss = balance.volume_change = 7.4e-2;
-  const std::string low = mass_balance_advice(balance, 1e-3, 1e3, false, 1e-7);
+  const std::string low = mass_balance_advice(balance, 1e-3, 1e3, MassHold::penalty, 1e-7);
   std::cout << "  " << low << std::endl;
   report("penalty 1e3 losing 7.4e-2: raise the factor to 1e7", contains(low, "(it is 1e3) to 1e7"));
-  const std::string high = mass_balance_advice(balance, 1e-3, 1e10, false, 1e-7);
+  const std::string high = mass_balance_advice(balance, 1e-3, 1e10, MassHold::penalty, 1e-7);
   report("penalty 1e10: not raised further, the iterative method instead",
          !contains(high, "raise") && contains(high, "Linear solver/Method = iterative"));
-  const std::string capped = mass_balance_advice(balance, 1e-3, 1e7, false, 1e-7);
+  const std::string capped = mass_balance_advice(balance, 1e-3, 1e7, MassHold::penalty, 1e-7);
   report("a factor beyond 1e10 needed: 1e10 advised, as the limit", contains(capped, "to 1e10, the limit"));
-  const std::string augmented = mass_balance_advice(balance, 1e-3, 1e3, true, 1e-7);
+  const std::string augmented = mass_balance_advice(balance, 1e-3, 1e3, MassHold::uzawa, 1e-7);
   report("augmented Lagrangian: its divergence tolerance, not the penalty factor",
          contains(augmented, "Divergence tolerance (it is 1e-7)") && !contains(augmented, "Penalty factor"));
+  const std::string stalled = mass_balance_advice(balance, 1e-3, 1e3, MassHold::uzawa_stalled, 1e-7);
+  report("Uzawa steps stalled (locking): a finer mesh or degree 2, not a tolerance or the factor",
+         contains(stalled, "Velocity degree = 2") && !contains(stalled, "tolerance") && !contains(stalled, "Penalty factor"));
   report("status: failed above the tolerance, warning above a tenth, else ok",
          mass_balance_status(balance, 1e-3) == MassBalanceStatus::failed &&
            mass_balance_status(balance, 0.5) == MassBalanceStatus::warning &&

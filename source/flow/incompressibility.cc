@@ -46,7 +46,19 @@ namespace dieflow
   double
   Incompressibility<dim>::factor() const
   {
-    return current_form == Form::augmented_lagrangian ? linear_solver.parameters.augmentation : material.penalty_factor;
+    return current_form == Form::augmented_lagrangian && krylov ? linear_solver.parameters.augmentation :
+                                                                  material.penalty_factor;
+  }
+
+
+
+  template <int dim>
+  std::string
+  Incompressibility<dim>::form_name() const
+  {
+    return current_form == Form::penalty ? "penalty" :
+           current_form == Form::mixed   ? "mixed" :
+                                           "augmented Lagrangian";
   }
 
 
@@ -87,7 +99,13 @@ namespace dieflow
         log << "  Linear solver/Method = auto: a direct factorisation of " << dof_handler.n_dofs()
             << " unknowns would not fit in the memory free; iterative on this mesh" << std::endl;
       }
-    current_form         = !iterative ? Form::penalty : fe.degree == 1 ? Form::augmented_lagrangian : Form::mixed;
+    krylov        = iterative;
+    stalled_steps = 0;
+    if (!krylov)
+      last_divergence_ratio = 0;
+    current_form = !iterative       ? (augmented_direct ? Form::augmented_lagrangian : Form::penalty) :
+                   fe.degree == 1   ? Form::augmented_lagrangian :
+                                      Form::mixed;
     if (current_form == Form::mixed)
       {
         blocks.reinit(dof_handler, hanging_node_constraints, PressureProjection<dim>::n_modes_for(fe));
@@ -120,9 +138,12 @@ namespace dieflow
       }
     else if (current_form == Form::augmented_lagrangian)
       {
-        std::vector<std::vector<bool>> constant_modes;
-        dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
-        linear_solver.set_constant_modes(constant_modes);
+        if (krylov)
+          {
+            std::vector<std::vector<bool>> constant_modes;
+            dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
+            linear_solver.set_constant_modes(constant_modes);
+          }
         // The previous mesh's cell stress is the best first multiplier.
         // Only the cell means go from mesh to mesh (the first coefficient).
         const unsigned int n_modes = PressureProjection<dim>::n_modes_for(fe);
@@ -169,7 +190,10 @@ namespace dieflow
     const unsigned int   n_modes    = PressureProjection<dim>::n_modes_for(dof_handler.get_fe());
     for (unsigned int i = 0; i < divergence.size(); ++i)
       multiplier[i] += cell_penalty[i / n_modes] * divergence[i];
-    last_divergence_ratio = divergence_ratio(coordinates, dof_handler, v);
+    const double previous_ratio = last_divergence_ratio;
+    last_divergence_ratio       = divergence_ratio(coordinates, dof_handler, v);
+    stalled_steps =
+      !krylov && previous_ratio > 0 && last_divergence_ratio > 0.5 * previous_ratio ? stalled_steps + 1 : 0;
     update_cell_penalty(v);
   }
 
@@ -221,7 +245,7 @@ namespace dieflow
     if (current_form == Form::mixed)
       solve_mixed(matrix, symmetric, rhs, update_constraints, update,
                   mixed_solve_tolerance(relative_residual, residual_floor, velocity), reassemble);
-    else if (current_form == Form::augmented_lagrangian)
+    else if (current_form == Form::augmented_lagrangian && krylov)
       linear_solver.solve_iteratively(dim, matrix, symmetric, rhs, update);
     else
       {
@@ -263,7 +287,8 @@ namespace dieflow
   {
     if (current_form == Form::mixed)
       return pressure_residual_ratio(velocity) <= mixed_pressure_tolerance;
-    return current_form != Form::augmented_lagrangian || last_divergence_ratio <= linear_solver.parameters.divergence_tolerance;
+    return current_form != Form::augmented_lagrangian ||
+           last_divergence_ratio <= linear_solver.parameters.divergence_tolerance || uzawa_stalled();
   }
 
 
@@ -432,7 +457,27 @@ namespace dieflow
         coordinates.strain_rates(centre, v, D);
         cell_penalty[cell->active_cell_index()] = material.evaluate(std::sqrt(2. / 3. * (D[0] * D[0]))).eta;
       }
-    cell_penalty *= linear_solver.parameters.augmentation;
+    cell_penalty *= factor();
+  }
+
+
+
+  template <int dim>
+  void
+  Incompressibility<dim>::augment(const Vector<double> &v)
+  {
+    if (current_form != Form::penalty)
+      return;
+    current_form     = Form::augmented_lagrangian;
+    augmented_direct = true;
+    update_cell_penalty(v);
+    // q = (lambda - r) P div v per cell: the pressure stays -lambda P div v.
+    multiplier             = cell_divergence(coordinates, dof_handler, v);
+    const unsigned int n_modes = multiplier.size() / cell_penalty.size();
+    for (unsigned int i = 0; i < multiplier.size(); ++i)
+      multiplier[i] *= lambda - cell_penalty[i / n_modes];
+    last_divergence_ratio = divergence_ratio(coordinates, dof_handler, v);
+    stalled_steps         = 0;
   }
 
 

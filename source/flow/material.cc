@@ -237,7 +237,10 @@ namespace dieflow
                         "Incompressibility penalty lambda = factor x eta_m, eta_m "
                         "the mean viscosity of the first iterate (the paper's "
                         "eps = 1e-7 eta_m). The pressure is p = -lambda div v; "
-                        "div v is of the order of 1/factor.");
+                        "div v is of the order of 1/factor. Where the penalty loses "
+                        "more of the flow than Nonlinear solver/Mass balance "
+                        "tolerance, the iteration goes on with Uzawa steps (r = "
+                        "factor x the cell's viscosity) to the incompressible answer.");
       prm.declare_entry("Hardening exponent n",
                         "0",
                         Double(),

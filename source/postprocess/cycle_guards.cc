@@ -13,7 +13,7 @@ namespace dieflow
   guard_mass_balance(CycleSummary &cycle,
                      const double  tolerance,
                      const double  penalty_factor,
-                     const bool    augmented,
+                     const MassHold hold,
                      const double  divergence_tolerance)
   {
     GuardVerdict verdict;
@@ -31,7 +31,7 @@ namespace dieflow
          << " % of the flow (mass balance " << std::scientific << balance.loss << ", cells' volume change "
          << balance.volume_change << std::defaultfloat << ", against Nonlinear solver/Mass balance tolerance = "
          << tolerance << "): the forces are off by about as much; "
-         << mass_balance_advice(balance, tolerance, penalty_factor, augmented, divergence_tolerance);
+         << mass_balance_advice(balance, tolerance, penalty_factor, hold, divergence_tolerance);
     if (cycle.mass_balance_status == MassBalanceStatus::failed)
       verdict.failure = what.str();
     else

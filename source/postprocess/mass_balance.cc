@@ -86,11 +86,15 @@ namespace dieflow
   mass_balance_advice(const MassBalance &balance,
                       const double       tolerance,
                       const double       penalty_factor,
-                      const bool         augmented,
+                      const MassHold     hold,
                       const double       divergence_tolerance)
   {
     std::ostringstream advice;
-    if (augmented)
+    if (hold == MassHold::uzawa_stalled)
+      return "Uzawa steps no longer reduce div v: no incompressible flow on this mesh meets the boundary "
+             "conditions (the elements lock); refine the mesh (more cells across) or set Discretisation/Velocity "
+             "degree = 2";
+    if (hold == MassHold::uzawa)
       {
         advice << "lower Linear solver/Divergence tolerance (it is " << deck_number(divergence_tolerance) << ")";
         return advice.str();

@@ -243,6 +243,7 @@ namespace dieflow
           {"nonlinear_iterations", s.nonlinear_iterations}, {"linear_solves", s.linear_solves},
           {"contact_assemblies", s.contact_assemblies}, {"friction_terms", s.friction_terms},
           {"pressure_recoveries", s.pressure_recoveries},
+          {"incompressibility", s.incompressibility},
           {"linear_solver",
            {{"method", s.linear_method}, {"symbolic_analyses", l.symbolic_analyses},
             {"cholesky_factorisations", l.cholesky_factorisations}, {"lu_factorisations", l.lu_factorisations},

@@ -240,6 +240,7 @@ namespace dieflow
     cycle_summary.nonlinear_iterations = result.iterations;
     cycle_summary.linear_solves        = result.linear_solves + start_solves;
     cycle_summary.linear_method        = incompressibility.iterative() ? "iterative" : "direct";
+    cycle_summary.incompressibility    = incompressibility.form_name();
     cycle_summary.linear_counts        = linear_solver.counts;
     cycle_summary.history              = result.history;
     if (start.size() == velocity.size() && velocity.l2_norm() > 0)
@@ -287,16 +288,23 @@ namespace dieflow
       result.converged        = false;
       result.failure          = verdict.failure;
     };
-    const bool augmented = incompressibility.form() == Incompressibility<dim>::Form::augmented_lagrangian;
+    const bool     augmented = incompressibility.form() == Incompressibility<dim>::Form::augmented_lagrangian;
+    const MassHold hold      = !augmented                         ? MassHold::penalty :
+                               incompressibility.uzawa_stalled() ? MassHold::uzawa_stalled :
+                                                                   MassHold::uzawa;
     if (result.converged)
       fail(guard_mass_balance(cycle_summary,
                               parameters.nonlinear_solver.mass_balance_tolerance,
                               incompressibility.factor(),
-                              augmented,
+                              hold,
                               parameters.linear_solver.divergence_tolerance));
     if (result.converged)
-      fail(guard_contact(
-        cycle_summary, dim, parameters.contact, augmented, parameters.material.penalty_factor, contact_changes()));
+      fail(guard_contact(cycle_summary,
+                         dim,
+                         parameters.contact,
+                         augmented && incompressibility.iterative(),
+                         parameters.material.penalty_factor,
+                         contact_changes()));
   }
 
 

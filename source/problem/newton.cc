@@ -1,5 +1,7 @@
 // The die-flow problem as Newton's method sees it: the state update, the assembly, the solve and the step of one iteration, and the Newtonian start.
 #include <dieflow/base/processes.h>
+#include <dieflow/postprocess/mass_balance.h>
+#include <dieflow/postprocess/postprocess.h>
 #include <dieflow/problem/problem.h>
 
 #include <deal.II/grid/grid_tools.h>
@@ -161,8 +163,31 @@ namespace dieflow
 
   template <int dim>
   bool
-  DieFlowProblem<dim>::constraints_settled() const
+  DieFlowProblem<dim>::constraints_settled()
   {
+    // A penalty that lets more of the flow go than the mass-balance guard
+    // allows (div v is of order 1/factor) turns augmented here: Uzawa steps
+    // then take P div v to zero (Incompressibility::augment()). The guard
+    // stays for the dual-weighted estimate, whose dual problem is the
+    // penalty form's.
+    const double tolerance = parameters.nonlinear_solver.mass_balance_tolerance;
+    if (incompressibility.form() == Incompressibility<dim>::Form::penalty && tolerance > 0 &&
+        parameters.refinement.indicator != RefinementParameters::Indicator::dual_weighted &&
+        !parameters.refinement.dual_weighted_estimate)
+      {
+        const MassBalance balance =
+          mass_balance(parameters.coordinates, dof_handler, velocity,
+                       boundary_fluxes(parameters.coordinates, dof_handler, velocity));
+        if (balance.worst() > tolerance)
+          {
+            incompressibility.augment(velocity);
+            log << "  the penalty (factor " << parameters.material.penalty_factor << ") lets "
+                << std::setprecision(2) << 100. * balance.worst()
+                << " % of the flow go: Uzawa steps from here (augmented Lagrangian, r = factor x eta per cell)"
+                << std::setprecision(6) << std::endl;
+            return false;
+          }
+      }
     return incompressibility.settled(velocity);
   }
 
@@ -278,7 +303,7 @@ namespace dieflow
                                                  const Linearization);                                                 \
   template bool         DieFlowProblem<dim>::is_linear() const;                                                        \
   template double       DieFlowProblem<dim>::residual_floor() const;                                                   \
-  template bool         DieFlowProblem<dim>::constraints_settled() const;                                              \
+  template bool         DieFlowProblem<dim>::constraints_settled();                                              \
   template std::vector<std::string> DieFlowProblem<dim>::contact_changes() const;                                      \
   template std::vector<std::string> DieFlowProblem<dim>::law_changes() const;                                          \
   template void                     DieFlowProblem<dim>::newtonian_start();

@@ -55,11 +55,14 @@ namespace dieflow
     prm.declare_entry("Mass balance tolerance",
                       "1e-3",
                       Double(0),
-                      "A converged cycle is still NOT converged (exit status 2) "
-                      "when the penalty lets the metal lose more than this "
-                      "share of the flow: |sum of the boundary fluxes| / inflow, "
+                      "Where the penalty lets the metal lose more than this share "
+                      "of the flow at a converged iterate, it turns augmented "
+                      "(Uzawa steps to the incompressible answer; not with the "
+                      "dual-weighted estimate); a converged cycle that still loses "
+                      "more is NOT converged (exit status 2). The loss "
+                      "is |sum of the boundary fluxes| / inflow, "
                       "or the sum over cells of |volume change| / inflow. The "
-                      "forces then carry a relative error of about the same "
+                      "forces carry a relative error of about the same "
                       "size (die2d N1: a loss of 8e-4 moves the ram force by "
                       "0.1 %, 7e-2 by 8 %), so the default matches the 0.1 % "
                       "the die forces are meant for; the default Penalty "
@@ -273,8 +276,9 @@ namespace dieflow
         // Newton step up to round-off.
         const bool linear_done = (k > 0 && system.is_linear());
         const double tolerance = std::max(residual_tolerance, system.residual_floor());
-        if (changes.total() == 0 && system.constraints_settled() &&
-            (residual <= tolerance || (k > 0 && last_correction <= update_tolerance) || linear_done))
+        if (changes.total() == 0 &&
+            (residual <= tolerance || (k > 0 && last_correction <= update_tolerance) || linear_done) &&
+            system.constraints_settled())
           {
             result.converged = true;
             return result;

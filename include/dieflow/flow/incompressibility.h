@@ -29,7 +29,13 @@ namespace dieflow
    *
    * - penalty (direct solver): p = -lambda P div v, lambda = (Material/
    *   Penalty factor) x eta_m, eta_m the mean viscosity; J du = -R solved
-   *   by CHOLMOD or UMFPACK.
+   *   by CHOLMOD or UMFPACK. Where the iteration has converged but the
+   *   penalty let more of the flow go than Nonlinear solver/Mass balance
+   *   tolerance allows (a low factor: div v is of order 1/factor), the
+   *   form turns augmented (augment()) and stays so for the run: the
+   *   augmented Lagrangian below with r = (Penalty factor) x eta per cell,
+   *   still solved directly, whose Uzawa steps drive P div v to zero
+   *   whatever the factor.
    *
    * - augmented Lagrangian (iterative solver, velocity degree 1; Fortin and
    *   Glowinski, Augmented Lagrangian Methods, 1983): p = -(q + r P div v),
@@ -100,11 +106,24 @@ namespace dieflow
     {
       return current_form;
     }
+    /// Whether the form's linear systems are solved by a Krylov method.
     bool
     iterative() const
     {
-      return current_form != Form::penalty;
+      return krylov;
     }
+    /// "penalty", "augmented Lagrangian" or "mixed" (summary.json).
+    std::string
+    form_name() const;
+    /**
+     * From the penalty form to the augmented Lagrangian, solved directly,
+     * at the converged iterate @p v: q = (lambda - r) P div v, so that the
+     * pressure -(q + r P div v) = -lambda P div v and the residual do not
+     * change; the Uzawa steps before each iteration then take P div v to
+     * zero. Later meshes start augmented (their loss would be the same).
+     */
+    void
+    augment(const Vector<double> &v);
     /// lambda/eta (penalty, mixed) or r/eta (augmented Lagrangian).
     double
     factor() const;
@@ -186,6 +205,14 @@ namespace dieflow
      */
     double
     cancellation_floor() const;
+    /// The Uzawa steps of a penalty turned augmented (augment()) stopped
+    /// reducing the divergence ratio: settled() gives up on them and the
+    /// mass-balance guard judges (the elements lock).
+    bool
+    uzawa_stalled() const
+    {
+      return stalled_steps >= 3;
+    }
     /// Whether Newton's method meets a linear problem here (no multiplier
     /// iteration, exact solves).
     bool
@@ -254,6 +281,8 @@ namespace dieflow
     std::ostream &               log;
 
     Form   current_form = Form::penalty;
+    /// Solved by a Krylov method (else directly); augment() was called.
+    bool   krylov = false, augmented_direct = false;
     double eta_m        = 0;
     double lambda       = 0;
     /// q per pressure coefficient (augmented, mixed); r per cell (augmented).
@@ -269,6 +298,9 @@ namespace dieflow
     /// relative residual it was asked at, and ||du|| / ||v|| of its step.
     double last_mixed_tolerance = 0, last_mixed_residual = 0, last_mixed_update = 1;
     double last_divergence_ratio = 0;
+    /// Consecutive Uzawa steps (solved directly) that kept more than half
+    /// the divergence ratio.
+    unsigned int stalled_steps = 0;
     Vector<double>                          carried_stress;
     MixedPenalty<dim>                       blocks;
     std::unique_ptr<SaddlePointSolver<dim>> saddle_point_solver;

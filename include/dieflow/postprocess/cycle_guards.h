@@ -3,6 +3,7 @@
 #define dieflow_cycle_guards_h
 
 #include <dieflow/contact/contact_parameters.h>
+#include <dieflow/postprocess/mass_balance.h>
 #include <dieflow/postprocess/summary.h>
 
 #include <string>
@@ -23,14 +24,14 @@ namespace dieflow
    * Nonlinear solver/Mass balance tolerance = @p tolerance (0: off): its
    * status into the cycle; a failure beyond the tolerance, a warning above
    * a tenth of it, each saying what to change (the incompressibility's
-   * @p penalty_factor, whether it is the @p augmented Lagrangian, and its
-   * @p divergence_tolerance).
+   * @p penalty_factor, how it was held, @p hold, and the augmented
+   * Lagrangian's @p divergence_tolerance).
    */
   GuardVerdict
   guard_mass_balance(CycleSummary &     cycle,
                      const double       tolerance,
                      const double       penalty_factor,
-                     const bool         augmented,
+                     const MassHold     hold,
                      const double       divergence_tolerance);
 
   /**

@@ -75,18 +75,31 @@ namespace dieflow
   MassBalanceStatus
   mass_balance_status(const MassBalance &balance, const double tolerance);
 
+  /// How incompressibility was held in the cycle the guard judges.
+  enum class MassHold
+  {
+    /// the penalty alone (div v of order 1/factor)
+    penalty,
+    /// the augmented Lagrangian's Uzawa steps, to Divergence tolerance
+    uzawa,
+    /// Uzawa steps that stopped reducing P div v (the mesh locks)
+    uzawa_stalled
+  };
+
   /**
    * What to change when the mass balance fails or warns: with the direct
    * solver's penalty, a factor that would bring the loss (which scales as
    * 1/factor) to a hundredth of the tolerance, up to 1e10 (round-off
-   * beyond); with the augmented Lagrangian (iterative method), its
-   * Divergence tolerance.
+   * beyond); with the augmented Lagrangian, its Divergence tolerance; where
+   * its Uzawa steps stalled, a finer mesh or velocity degree 2 (no
+   * discretely incompressible flow on this mesh meets the boundary
+   * conditions).
    */
   std::string
   mass_balance_advice(const MassBalance &balance,
                       const double       tolerance,
                       const double       penalty_factor,
-                      const bool         augmented,
+                      const MassHold     hold,
                       const double       divergence_tolerance);
 } // namespace dieflow
 

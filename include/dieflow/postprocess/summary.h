@@ -71,6 +71,10 @@ namespace dieflow
     unsigned int pressure_recoveries  = 0;
     /// "direct" or "iterative", and what the linear solvers did.
     std::string        linear_method = "direct";
+    /// How incompressibility was held: "penalty", "augmented Lagrangian"
+    /// (Uzawa steps; the iterative method of degree 1, or a penalty that
+    /// lost too much of the flow) or "mixed".
+    std::string        incompressibility = "penalty";
     LinearSolverCounts linear_counts;
     /// Integral of the traction sigma n over each boundary part (N/mm in 2D).
     std::map<BoundaryId, std::vector<double>> boundary_force;

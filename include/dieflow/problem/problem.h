@@ -91,7 +91,7 @@ namespace dieflow
     double
     residual_floor() const override;
     bool
-    constraints_settled() const override;
+    constraints_settled() override;
     double
     velocity_scale() const override { return prescribed_speed; }
     bool

@@ -87,9 +87,10 @@ namespace dieflow
 
     /// Whether the constraints the iterate satisfies only in the limit
     /// (an augmented Lagrangian's) hold to their tolerance at the last
-    /// update_state().
+    /// update_state(); asked only of an iterate that has otherwise
+    /// converged, it may change how they are held (then false).
     virtual bool
-    constraints_settled() const
+    constraints_settled()
     {
       return true;
     }
