@@ -172,8 +172,7 @@ namespace dieflow
     // penalty form's.
     const double tolerance = parameters.nonlinear_solver.mass_balance_tolerance;
     if (incompressibility.form() == Incompressibility<dim>::Form::penalty && tolerance > 0 &&
-        parameters.refinement.indicator != RefinementParameters::Indicator::dual_weighted &&
-        !parameters.refinement.dual_weighted_estimate)
+        !parameters.refinement.solves_dual())
       {
         const MassBalance balance =
           mass_balance(parameters.coordinates, dof_handler, velocity,

@@ -366,7 +366,7 @@ namespace dieflow
                 "Refinement/Target quantity",
                 "'" + refinement.target_quantity + "' is not a quantity of this deck (it has " + known + ")");
       }
-    if (refinement.indicator == RefinementParameters::Indicator::dual_weighted || refinement.dual_weighted_estimate)
+    if (refinement.solves_dual())
       {
         require(!contact.uses_penalty(),
                 "Refinement/Indicator",

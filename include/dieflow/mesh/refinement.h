@@ -54,6 +54,14 @@ namespace dieflow
     /// Print and record the dual-weighted estimate of the force's error.
     bool         dual_weighted_estimate = false;
 
+    /// Whether the run solves the dual problem of the ram force (its
+    /// indicator, or its estimate printed).
+    bool
+    solves_dual() const
+    {
+      return indicator == Indicator::dual_weighted || dual_weighted_estimate;
+    }
+
     static void
     declare_parameters(ParameterHandler &prm);
     void
