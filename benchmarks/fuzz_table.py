@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Summarise the fuzz corpus of the suite (tests/fuzz_*.cc) for doc/stress.md.
 
-Runs the built test programs fuzz_mutated_decks and fuzz_extreme_decks_{a,b,c}
+Runs the built test programs fuzz_mutated_decks and fuzz_extreme_decks_{a,e,b,c,f,d}
 (build/tests/NAME.release/NAME.release) in a temporary directory, the extreme
 ones with FUZZ_TABLE and FUZZ_COUNTS set so that they list every deck, and
 prints a Markdown section: the verdicts, the exit statuses of the extreme
@@ -24,9 +24,13 @@ def program(build, name):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--tables", help="keep each part's table of every deck in this directory")
     args = parser.parse_args()
     lines = []
     with tempfile.TemporaryDirectory() as work:
+        if args.tables:
+            os.makedirs(args.tables, exist_ok=True)
+            work = args.tables
         start = time.time()
         out = subprocess.run([program(args.build, "fuzz_mutated_decks")], cwd=work,
                              capture_output=True, text=True).stdout
@@ -34,8 +38,10 @@ def main():
         lines += ["    " + l for l in out.splitlines()]
         lines.append("")
         rows = []
-        for part in "abcd":
+        for part in "aebcfd":
             table = os.path.join(work, "table-%s.md" % part)
+            if os.path.exists(table):
+                os.remove(table)
             start = time.time()
             out = subprocess.run([program(args.build, "fuzz_extreme_decks_" + part)], cwd=work,
                                  capture_output=True, text=True,

@@ -112,6 +112,57 @@ namespace fuzz
     const double      x    = std::strtod(text.c_str(), &end);
     return (end != text.c_str() && *end == '\0') ? x : std::nan("");
   }
+  /**
+   * The largest breach of Coulomb's law with coefficient @p mu (relative
+   * to the largest pressure or speed) in a die profile file written by a
+   * run (columns 4-8: p, tau, v_n, v_t, status 0 separated, 1 stick, 2
+   * slip): no penetration; in contact no pull and |tau| <= mu p; sticking
+   * nodes at rest; slipping ones on the cone against their slip. 1 for a
+   * file without rows.
+   */
+  inline double
+  coulomb_breach(const std::string &file, const double mu)
+  {
+    std::ifstream                    in(file);
+    std::vector<std::vector<double>> rows;
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty() && line[0] != '#')
+        {
+          std::istringstream  words(line);
+          std::vector<double> row;
+          for (double x; words >> x;)
+            row.push_back(x);
+          if (row.size() >= 8)
+            rows.push_back(row);
+        }
+    if (rows.empty())
+      return 1;
+    double p_max = 0, v_max = 0;
+    for (const auto &r : rows)
+      {
+        p_max = std::max(p_max, std::abs(r[3]));
+        v_max = std::max({v_max, std::abs(r[5]), std::abs(r[6])});
+      }
+    double breach = 0;
+    for (const auto &r : rows)
+      {
+        const double p = r[3], tau = r[4], v_n = r[5], v_t = r[6];
+        const int    status = static_cast<int>(r[7]);
+        breach              = std::max(breach, v_n / v_max); // no penetration
+        if (status == 0)
+          continue;
+        breach = std::max(breach, -p / p_max);                       // no pull
+        breach = std::max(breach, (std::abs(tau) - mu * p) / p_max); // within the cone
+        if (status == 1)
+          breach = std::max(breach, std::abs(v_t) / v_max); // sticking at rest
+        else
+          {
+            breach = std::max(breach, std::abs(std::abs(tau) - mu * p) / p_max); // on the cone
+            breach = std::max(breach, tau * v_t > 0 ? 1. : 0.);                   // against the slip
+          }
+      }
+    return breach;
+  }
 } // namespace fuzz
 
 #endif

@@ -153,6 +153,15 @@ namespace fuzz
         std::string failure = summary("fuzz-extreme").get<std::string>("failure", "");
         for (char &c : failure)
           c = (c == '|' || c == '\n') ? ' ' : c;
+        // The first solve's reason first, then how far the continuation got.
+        const std::string tried = "Contact/Friction continuation): ";
+        if (const auto at = failure.find(tried); at != std::string::npos)
+          {
+            const auto reached = failure.find("reached ");
+            failure            = "cycle 0: " + failure.substr(at + tried.size(), 130) + " [continuation " +
+                      (reached != std::string::npos && reached < at ? failure.substr(reached, 14) : "failed") + "]";
+            return failure;
+          }
         return failure.substr(0, 160);
       }
     catch (const std::exception &)

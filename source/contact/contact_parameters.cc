@@ -55,6 +55,19 @@ namespace dieflow
                       "and above, where the linearised coupling makes the contact "
                       "states cycle. auto: Newton until the states cycle, then the "
                       "fixed point (on each mesh).");
+    prm.declare_entry("Friction continuation",
+                      "true",
+                      Bool(),
+                      "When Newton's method fails on a mesh at the deck's friction "
+                      "(the contact does not settle, the iteration diverges or runs "
+                      "out of iterations), solve that mesh again: with Coulomb's "
+                      "bound frozen at each iteration's normal force (Coulomb "
+                      "coupling = fixed point) from the start, and if that fails too, "
+                      "from the frictionless problem, every friction bound (mu, the "
+                      "Tresca factor) raised in stages to the deck's, each stage from "
+                      "the last converged one (a smaller stage after one that fails). "
+                      "Only the solution at the deck's friction is reported "
+                      "converged; decks that converge without it are unchanged.");
     prm.declare_entry("Friction coefficients",
                       "3: 0.001, 4: 0.1",
                       Anything(),
@@ -161,6 +174,7 @@ namespace dieflow
                 "id " + std::to_string(id) + " is not listed under Die ids");
         tresca_factor[id] = m;
       }
+    friction_continuation     = prm.get_bool("Friction continuation");
     shear_flow_stress         = prm.get_double("Shear flow stress");
     normal_penalty_factor     = prm.get_double("Normal penalty factor");
     tangential_penalty_factor = prm.get_double("Tangential penalty factor");
@@ -214,7 +228,9 @@ namespace dieflow
     switch (law)
       {
         case FrictionLaw::Kind::coulomb:
-          if (coulomb_coupling != CoulombCoupling::fixed_point && any_positive(friction_coefficient))
+          // The continuation tries the fixed point first.
+          if (coulomb_coupling != CoulombCoupling::fixed_point && any_positive(friction_coefficient) &&
+              !friction_continuation)
             changes.emplace_back("set Contact/Coulomb coupling = fixed point");
           changes.emplace_back("set Contact/Friction law = Tresca or regularised Coulomb");
           if (any_positive(friction_coefficient))
@@ -265,5 +281,13 @@ namespace dieflow
   ContactParameters::frictionless(const BoundaryId id) const
   {
     return law_of(id, 1.).frictionless();
+  }
+
+
+
+  bool
+  ContactParameters::has_friction() const
+  {
+    return std::any_of(die_ids.begin(), die_ids.end(), [this](const BoundaryId id) { return !frictionless(id); });
   }
 } // namespace dieflow

@@ -99,6 +99,8 @@ namespace dieflow
   ContactSet<dim>::law_of(const Direction &direction) const
   {
     FrictionLaw law             = parameters->law_of(direction.wall.id, direction.wall.weight);
+    law.mu *= friction_scale;
+    law.shear_bound *= friction_scale;
     law.kind                    = direction.regularised ? FrictionLaw::Kind::regularised_coulomb : parameters->law;
     law.tangential_penalty      = penalty_of(parameters->tangential_penalty_factor, direction.wall);
     if (law.kind == FrictionLaw::Kind::coulomb && !uses_penalty() &&
@@ -292,6 +294,43 @@ namespace dieflow
     recent_signatures.clear();
     add_nodes(die_nodes, false);
     add_nodes(approaching, true);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::restart_states()
+  {
+    release_holds();
+    for (auto &node : nodes)
+      for (auto &dir : node.directions)
+        {
+          dir.active         = !dir.approaching;
+          dir.status         = dir.approaching ? ContactStatus::separated : ContactStatus::slip;
+          dir.slip_direction = Slip::Unit(0);
+          dir.normal_force   = 0;
+          dir.stick_force = dir.multiplier = dir.multiplier_rate = Slip::Zero();
+          dir.multiplier_bound = 0;
+        }
+    previous_velocity.reinit(0);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactSet<dim>::release_holds()
+  {
+    for (auto &node : nodes)
+      for (auto &dir : node.directions)
+        {
+          dir.reversals       = 0;
+          dir.held_in_contact = false;
+          dir.regularised     = false;
+          dir.bound_frozen    = bounds_frozen_everywhere;
+        }
+    recent_signatures.clear();
   }
 
 

@@ -240,7 +240,10 @@ namespace dieflow
                         "div v is of the order of 1/factor. Where the penalty loses "
                         "more of the flow than Nonlinear solver/Mass balance "
                         "tolerance, the iteration goes on with Uzawa steps (r = "
-                        "factor x the cell's viscosity) to the incompressible answer.");
+                        "factor x the cell's viscosity) to the incompressible answer. "
+                        "A factor above 1e10 is solved at 1e10 (and the run warns): "
+                        "beyond it round-off in the reactions (1e-16 x factor) "
+                        "exceeds the change it would make (1/factor).");
       prm.declare_entry("Hardening exponent n",
                         "0",
                         Double(),
@@ -335,7 +338,8 @@ namespace dieflow
     require(maximum_viscosity > minimum_viscosity,
             "Material/Maximum viscosity",
             "must exceed Minimum viscosity");
-    penalty_factor = positive("Penalty factor");
+    deck_penalty_factor = positive("Penalty factor");
+    penalty_factor      = std::min(deck_penalty_factor, largest_penalty_factor);
     hardening_exponent = prm.get_double("Hardening exponent n");
     require(std::isfinite(hardening_exponent) && hardening_exponent >= 0 && hardening_exponent <= 1,
             "Material/Hardening exponent n",

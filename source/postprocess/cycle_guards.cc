@@ -45,8 +45,6 @@ namespace dieflow
   guard_contact(const CycleSummary &            cycle,
                 const unsigned int              dim,
                 const ContactParameters &       contact,
-                const bool                      augmented,
-                const double                    material_penalty_factor,
                 const std::vector<std::string> &changes)
   {
     GuardVerdict verdict;
@@ -74,14 +72,7 @@ namespace dieflow
     what << "the converged state breaks the contact conditions: " << broken.str() << " of the largest force or speed";
     if (cycle.held_in_contact > 0)
       what << ", with " << cycle.held_in_contact << " direction(s) held in contact to end a cycle of the states";
-    what << "; ";
-    // Round-off, not the mesh, when the penalty is beyond double precision.
-    constexpr double largest_penalty = 1e10;
-    if (!augmented && material_penalty_factor > largest_penalty)
-      what << "lower Material/Penalty factor (it is " << deck_number(material_penalty_factor)
-           << ") to 1e10: beyond it round-off breaks the constraints";
-    else
-      what << one_of_changes(changes, "");
+    what << "; " << one_of_changes(changes, "");
     verdict.failure = what.str();
     return verdict;
   }

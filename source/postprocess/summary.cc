@@ -244,6 +244,7 @@ namespace dieflow
           {"contact_assemblies", s.contact_assemblies}, {"friction_terms", s.friction_terms},
           {"pressure_recoveries", s.pressure_recoveries},
           {"incompressibility", s.incompressibility},
+          {"friction_stages", numbers(s.friction_stages)},
           {"linear_solver",
            {{"method", s.linear_method}, {"symbolic_analyses", l.symbolic_analyses},
             {"cholesky_factorisations", l.cholesky_factorisations}, {"lu_factorisations", l.lu_factorisations},

@@ -90,6 +90,16 @@ namespace dieflow
                              parameters.contact.die_ids,
                              die_surfaces,
                              parameters.boundary_conditions.traction_free_ids);
+    if (parameters.material.deck_penalty_factor > parameters.material.penalty_factor)
+      {
+        const std::string warning = "Material/Penalty factor = " +
+                                    deck_number(parameters.material.deck_penalty_factor) +
+                                    " is beyond double precision (round-off of about 1e-16 x factor in the reactions, "
+                                    "more than the 1/factor it changes): solved at " +
+                                    deck_number(parameters.material.penalty_factor);
+        log << "  warning: " << warning << std::endl;
+        summary.warnings.push_back(warning);
+      }
     if constexpr (dim == 2)
       if (parameters.free_surface.enabled())
         free_surface.initialize(triangulation, parameters.contact.die_ids, parameters.free_surface,
@@ -226,7 +236,7 @@ namespace dieflow
         assembler.update_dual(dof_handler, velocity, nullptr, 0);
         start = velocity;
         constraints.distribute(start);
-        result = parameters.nonlinear_solver.solve(*this, velocity, log);
+        result = continue_in_friction(start, parameters.nonlinear_solver.solve(*this, velocity, log), cycle_summary);
         if (parameters.free_surface.enabled() && result.converged)
           result = settle_free_surface(result, cycle_summary);
         if ((parameters.heat.model == HeatParameters::Model::steady || parameters.steady_strain()) && result.converged)
@@ -299,12 +309,7 @@ namespace dieflow
                               hold,
                               parameters.linear_solver.divergence_tolerance));
     if (result.converged)
-      fail(guard_contact(cycle_summary,
-                         dim,
-                         parameters.contact,
-                         augmented && incompressibility.iterative(),
-                         parameters.material.penalty_factor,
-                         contact_changes()));
+      fail(guard_contact(cycle_summary, dim, parameters.contact, contact_changes()));
   }
 
 

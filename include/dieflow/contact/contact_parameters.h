@@ -56,6 +56,9 @@ namespace dieflow
     double                       tangential_penalty_factor = 100;
     double                       regularisation_velocity   = 0;
     double                       active_set_constant       = 1;
+    /// A mesh whose Newton iteration fails is solved again from the
+    /// frictionless problem, the friction raised in stages.
+    bool                         friction_continuation     = true;
     /// Die ids whose die is a surface mesh of its own (Gmsh file names).
     std::map<BoundaryId, std::string> die_surface_files;
     /// Die ids that move: their rigid translation velocity (components as
@@ -86,6 +89,9 @@ namespace dieflow
     /// (mu = 0, or a zero Tresca bound).
     bool
     frictionless(const BoundaryId id) const;
+    /// True where some die's law transmits a tangential force.
+    bool
+    has_friction() const;
 
     /// Deck changes that may let contact states that keep changing settle,
     /// none of them in use already (for the failure message).

@@ -201,6 +201,37 @@ namespace dieflow
     std::string
     cycling_note() const;
 
+    /// Every friction bound (mu, the Tresca bound) times @p scale: 0 the
+    /// frictionless problem, 1 the deck's (a continuation's stages,
+    /// DieFlowProblem::continue_in_friction()).
+    void
+    set_friction_scale(const double scale)
+    {
+      friction_scale = scale;
+    }
+    double
+    get_friction_scale() const
+    {
+      return friction_scale;
+    }
+    /// Every direction back in contact and slipping, as setup() starts it
+    /// (the free surface's approaching ones separated), with no force.
+    void
+    restart_states();
+    /// The cycling guard's holds (held in contact, regularised, bound
+    /// frozen) and the slip reversals forgotten, the states kept: a new
+    /// continuation stage is a new problem.
+    void
+    release_holds();
+    /// From the next release_holds() on, every direction's Coulomb bound
+    /// frozen at each update's normal force (Contact/Coulomb coupling =
+    /// fixed point) if @p frozen; else only where the states cycle.
+    void
+    freeze_bounds(const bool frozen)
+    {
+      bounds_frozen_everywhere = frozen;
+    }
+
     /// What the cycling guard did: directions held in contact, and friction
     /// laws regularised.
     std::pair<unsigned int, unsigned int>
@@ -339,6 +370,9 @@ namespace dieflow
     double                     speed_scale     = 1;
     /// v0 of the friction laws regularised because their states cycled.
     double                     cycling_velocity = 1;
+    /// set_friction_scale()'s.
+    double                     friction_scale   = 1;
+    bool                       bounds_frozen_everywhere = false;
     /// The largest speed of the last update (the 3D slip floor's scale).
     double                     largest_speed = 1;
     std::vector<std::size_t>   recent_signatures;

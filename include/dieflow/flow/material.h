@@ -298,7 +298,15 @@ namespace dieflow
     double      minimum_strain_rate = 1e-4;
     double      minimum_viscosity   = 0;
     double      maximum_viscosity   = 1e300;
+    /// The factor the run uses: the deck's, at most largest_penalty_factor.
     double      penalty_factor      = 1e7;
+    /// The deck's Penalty factor.
+    double      deck_penalty_factor = 1e7;
+    /// Beyond it the penalty's round-off (about 1e-16 x factor, relative,
+    /// in the reactions the contact states read) outgrows the contact's
+    /// dead band and the answer's difference from the incompressible limit
+    /// (1/factor): a larger factor is solved at this one (doc/stress.md).
+    static constexpr double largest_penalty_factor = 1e10;
     /// Strain rate at which the Newtonian start evaluates the law (0: auto).
     double reference_strain_rate = 0;
     /// T_0 (K), at which the law's constants hold, and Q (J/mol) of the Zener-Hollomon rate.

@@ -43,16 +43,14 @@ namespace dieflow
    * in 3D 1e-8, where the semismooth Newton method reaches the cone as it
    * converges, not by construction), friction driving its slip, sticking
    * nodes sliding beyond 1e-8. Penalty enforcement keeps the first and
-   * the last only approximately: not checked. The failure names what to
-   * change: a penalty factor beyond 1e10 (@p material_penalty_factor,
-   * not the @p augmented Lagrangian's), else one of @p changes.
+   * the last only approximately: not checked. The failure names one of
+   * @p changes (a penalty factor beyond 1e10, whose round-off broke these
+   * conditions, is solved at 1e10: Material::largest_penalty_factor).
    */
   GuardVerdict
   guard_contact(const CycleSummary &            cycle,
                 const unsigned int              dim,
                 const ContactParameters &       contact,
-                const bool                      augmented,
-                const double                    material_penalty_factor,
                 const std::vector<std::string> &changes);
 } // namespace dieflow
 

@@ -75,6 +75,11 @@ namespace dieflow
     /// (Uzawa steps; the iterative method of degree 1, or a penalty that
     /// lost too much of the flow) or "mixed".
     std::string        incompressibility = "penalty";
+    /// Newton's method failed at the deck's friction and was globalised
+    /// (DieFlowProblem::continue_in_friction()): the friction scales of the
+    /// stages that converged, in order (1: the deck's; the first at 1 with
+    /// Coulomb's bound at its fixed point); empty: not needed.
+    std::vector<double> friction_stages;
     LinearSolverCounts linear_counts;
     /// Integral of the traction sigma n over each boundary part (N/mm in 2D).
     std::map<BoundaryId, std::vector<double>> boundary_force;

@@ -38,16 +38,16 @@ namespace dieflow
   /**
    * The die-flow problem (deal.II step-42's shape, ASPECT's rooms). A run:
    *
-   *   for each cycle (Problem = steady: a refinement cycle; incremental: a
-   *   time step):                                             (cycles.cc)
+   *   for each cycle (a refinement cycle, or a time step)    (cycles.cc):
    *     the mesh: refined (refinement.cc), or moved with the metal and
    *       meshed anew where cells degrade (time_steps.cc);
    *     dofs, constraints, the incompressibility form's state  (setup.cc);
    *     Newton's method (NonlinearSolver) on this system: per iteration
    *       update_state -> assemble_system -> solve -> line search ->
    *       accept_step                                       (newton.cc);
-   *     a steady free surface moved onto the streamlines and solved again
-   *       until it settles                              (free_surface.cc);
+   *       where it fails, at Coulomb's fixed point, then in stages of
+   *       friction from frictionless                  (continuation.cc);
+   *     a steady free surface moved onto the streamlines till it settles (free_surface.cc);
    *     the temperature, the strain and the flow in turn until they settle (heat.cc);
    *     the report (CycleReport), its guards, the study, summary.json;
    *     a checkpoint in time                            (checkpoint.cc).
@@ -136,6 +136,9 @@ namespace dieflow
     /// Newton's method (after the Newtonian start on the first cycle) and the free surface.
     NonlinearResult
     solve_cycle(const unsigned int cycle, CycleSummary &cycle_summary);
+    /// A failed Newton iteration again from @p start: Coulomb's fixed point, then the friction in stages. (continuation.cc)
+    NonlinearResult
+    continue_in_friction(const Vector<double> &start, NonlinearResult failed, CycleSummary &cycle);
     /// The report and its guards; a guard's failure into @p result.
     void
     report_cycle(CycleSummary &cycle_summary, NonlinearResult &result, RunSummary &summary);
@@ -232,17 +235,14 @@ namespace dieflow
     StrainField<dim>       strain;
     CycleReport<dim>       report;
     StudyTable             study;
-    /// The contact states come from a solve (false until the first of a
-    /// run); the first iterate of a new mesh keeps the previous mesh's.
+    /// The contact states come from a solve (not before a run's first); a new mesh's first iterate keeps the last's.
     bool         contact_states_valid      = false;
     bool         states_from_previous_mesh = false;
     bool         matrix_symmetric          = true;
-    /// roundoff_bound() of the last assembled Jacobian; the largest prescribed speed.
-    double       last_roundoff_bound = 0;
-    double       prescribed_speed    = 0;
+    double       last_roundoff_bound = 0; ///< roundoff_bound() of the last assembled Jacobian
+    double       prescribed_speed    = 0; ///< the largest prescribed speed
     unsigned int start_solves        = 0;
-    /// newtonian_start()'s word on the law's regularisation, for summary.json.
-    std::string  law_warning;
+    std::string  law_warning; ///< newtonian_start()'s word on the law's regularisation, for summary.json
   };
 } // namespace dieflow
 

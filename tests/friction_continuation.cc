@@ -1,0 +1,94 @@
+// Contact/Friction continuation: where Newton's method fails at a die's friction, Coulomb's bound at its fixed point and then continuation from the frictionless problem converge to a state that keeps Coulomb's law at every node.
+//
+// Two decks of the extreme corpus (fuzz_extreme.h; seed 3 decks 38 and
+// 30), coarse (2 cells across and 1), with mu 2.5 and 1.9 on the die and
+// land: A nearly rigid-plastic (Norton-Hoff m = 0.024), B Newtonian at
+// penalty factor 1.1e3 (it turns augmented):
+// - without the continuation both exit 2 (the contact does not settle);
+// - deck A converges at its first stage, the deck's friction with the
+//   bound frozen at each iteration's normal force (friction_stages = [1]),
+//   to the ram force of the same deck run with Contact/Coulomb coupling =
+//   fixed point (the advice the stage replaces) within 1e-6;
+// - deck B fails at that stage and converges by continuation: frictionless,
+//   at stages below the deck's friction and at the deck's (friction_stages
+//   ends with 1 after a stage strictly between 0 and 1), to the ram force
+//   that Coulomb coupling = fixed point set in the deck reaches from the
+//   start by another path, within 1e-6 (measured 1e-7: the Uzawa steps'
+//   divergence tolerance);
+// - both converged states keep the contact laws: the run's own contact
+//   checks within the guard's bounds, and the die profiles the runs write
+//   (read here, independently of the run's checks) keep Coulomb's law with
+//   the deck's mu at every node within 1e-6 of the largest pressure or
+//   speed (the profiles print 8 digits).
+#include "fuzz_extreme.h"
+
+namespace
+{
+  /// Exit status, F_x[1] and the friction stages of a run of @p deck with @p extra appended.
+  struct Run
+  {
+    int                 status;
+    double              force;
+    std::vector<double> stages;
+    double              breach;
+  };
+
+  Run
+  run(const fuzz::ExtremeDeck &deck, const std::string &extra)
+  {
+    std::filesystem::remove_all("fuzz-extreme");
+    const fuzz::Outcome outcome = fuzz::run("continuation.prm", deck.text() + extra);
+    const auto          tree    = fuzz::summary("fuzz-extreme");
+    const auto &        last    = tree.get_child("cycles").back().second;
+    Run                 r{outcome.status, fuzz::number(last, "quantities|F_x[1]"), {}, 1};
+    for (const auto &stage : last.get_child("friction_stages"))
+      r.stages.push_back(stage.second.get_value<double>());
+    if (outcome.status == 0)
+      {
+        std::string row;
+        r.breach = fuzz::judge(deck, outcome, row).empty() ?
+                     std::max(fuzz::coulomb_breach("fuzz-extreme/die-profile-3.dat", deck.mu_container),
+                              fuzz::coulomb_breach("fuzz-extreme/die-profile-4.dat", deck.mu_die)) :
+                     1;
+      }
+    return r;
+  }
+
+  const std::string without = "subsection Contact\n  set Friction continuation = false\nend\n";
+  const std::string fixed_point =
+    "subsection Contact\n  set Friction continuation = false\n  set Coulomb coupling = fixed point\nend\n";
+} // namespace
+
+int
+main()
+{
+  const auto yes = [](const bool b) { return b ? "yes" : "NO"; };
+  // die angle, outlet half height, container, land, cells across, degree,
+  // mu container, mu die, speed, penalty factor, m, Newtonian
+  const fuzz::ExtremeDeck a{37.1805, 0.95, 0.240217, 13.8931, 2, 1, 0, 2.54331, 1e-6, 1.35964e8, 0.0235295, false};
+  const fuzz::ExtremeDeck b{44.9573, 6.5995, 0.1, 107.509, 1, 1, 0, 1.88058, 5385.67, 1143.77, 0.0696171, true};
+
+  std::cout << "deck A without the continuation: exit 2: " << yes(run(a, without).status == 2) << std::endl;
+  const Run a_fixed = run(a, fixed_point);
+  const Run a_on    = run(a, "");
+  std::cout << "deck A: converges at the fixed-point stage, to the ram force of Coulomb coupling = fixed point "
+               "within 1e-6: "
+            << yes(a_fixed.status == 0 && a_on.status == 0 && a_on.stages == std::vector<double>{1} &&
+                   std::abs(a_on.force / a_fixed.force - 1) < 1e-6)
+            << std::endl;
+  std::cout << "deck A: contact checks and Coulomb's law in the die profiles within 1e-6: " << yes(a_on.breach < 1e-6)
+            << std::endl;
+
+  std::cout << "deck B without the continuation: exit 2: " << yes(run(b, without).status == 2) << std::endl;
+  const Run  b_fixed = run(b, fixed_point);
+  const Run  b_on    = run(b, "");
+  const bool between =
+    std::any_of(b_on.stages.begin(), b_on.stages.end(), [](const double s) { return s > 0 && s < 1; });
+  std::cout << "deck B: converges through a stage below the deck's friction, to the ram force of Coulomb coupling "
+               "= fixed point within 1e-6: "
+            << yes(b_on.status == 0 && between && !b_on.stages.empty() && b_on.stages.back() == 1 &&
+                   b_fixed.status == 0 && std::abs(b_on.force / b_fixed.force - 1) < 1e-6)
+            << std::endl;
+  std::cout << "deck B: contact checks and Coulomb's law in the die profiles within 1e-6: " << yes(b_on.breach < 1e-6)
+            << std::endl;
+}
