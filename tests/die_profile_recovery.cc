@@ -22,6 +22,7 @@
 //    that of the friction stress (over its largest value) a tenth
 //    (measured: 0.036 -> 0.0065 and 0.0093 -> 0.00025).
 #include "exact_flows.h"
+#include "fuzz.h"
 #include "report.h"
 
 #include <algorithm>
@@ -35,25 +36,6 @@ using namespace dieflow;
 
 namespace
 {
-  std::vector<std::vector<double>>
-  profile(const std::string &path)
-  {
-    std::vector<std::vector<double>> rows;
-    std::ifstream                    in(path);
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty() && line[0] != '#')
-        {
-          std::istringstream  fields(line);
-          std::vector<double> row;
-          for (double x; fields >> x;)
-            row.push_back(x);
-          rows.push_back(row);
-        }
-    return rows;
-  }
-
-
-
   /// Largest error of the recovered pressure and largest recovered shear
   /// at the interior nodes of the sink flow's die (degree 1), relative to
   /// the largest exact pressure.
@@ -62,7 +44,7 @@ namespace
   {
     run_deck_text(sink_flow_deck(refinements));
     double     recovered = 0, shear = 0, largest = 0;
-    const auto rows      = profile("results/die-profile-3.dat");
+    const auto rows      = fuzz::numeric_rows("results/die-profile-3.dat");
     for (const auto &row : rows)
       {
         const double r2    = (row[1] - 2) * (row[1] - 2) + row[2] * row[2];
@@ -109,7 +91,7 @@ namespace
     run_deck_text("subsection Mesh\n set Corner refinements = 5\n subsection Die2d\n  set Cells across = 8\n end\nend\n"
                   "subsection Refinement\n set Cycles = 3\n set Strategy = adaptive\n set Indicator = kelly\n"
                   " set Refine fraction = 0.3\nend\n");
-    const auto rows = profile("results/die-profile-4.dat");
+    const auto rows = fuzz::numeric_rows("results/die-profile-4.dat");
     return {{roughness(rows, 3, false), roughness(rows, 8, false), roughness(rows, 4, true), roughness(rows, 9, true)}};
   }
 } // namespace
@@ -122,7 +104,7 @@ main()
       run_deck_text(couette_slip_deck + "subsection Discretisation\n set Velocity degree = " + std::to_string(degree) +
                     "\nend\n");
       bool exact = true;
-      for (const auto &row : profile("results/die-profile-3.dat"))
+      for (const auto &row : fuzz::numeric_rows("results/die-profile-3.dat"))
         exact = exact && std::abs(row[8] - 1) < 1e-6 && std::abs(std::abs(row[9]) - 0.5) < 1e-6 &&
                 row[9] * row[4] >= 0;
       report("degree " + std::to_string(degree) + ", Couette slip: recovered pressure 1 and shear 0.5 at every node",

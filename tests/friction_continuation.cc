@@ -1,10 +1,10 @@
-// Contact/Friction continuation: where Newton's method fails at a die's friction, Coulomb's bound at its fixed point and then continuation from the frictionless problem converge to a state that keeps Coulomb's law at every node.
+// Contact/Friction and Material/Rate sensitivity continuation: where Newton's method fails at a die's friction, or its converged state pulls on the die, Coulomb's fixed point, continuation in the friction and in m converge to a state that keeps Coulomb's law at every node.
 //
 // Two decks of the extreme corpus (fuzz_extreme.h; seed 3 decks 38 and
 // 30), coarse (2 cells across and 1), with mu 2.5 and 1.9 on the die and
 // land: A nearly rigid-plastic (Norton-Hoff m = 0.024), B Newtonian at
 // penalty factor 1.1e3 (it turns augmented):
-// - without the continuation both exit 2 (the contact does not settle);
+// - without the continuations both exit 2 (the contact does not settle);
 // - deck A converges at its first stage, the deck's friction with the
 //   bound frozen at each iteration's normal force (friction_stages = [1]),
 //   to the ram force of the same deck run with Contact/Coulomb coupling =
@@ -20,6 +20,17 @@
 //   (read here, independently of the run's checks) keep Coulomb's law with
 //   the deck's mu at every node within 1e-6 of the largest pressure or
 //   speed (the profiles print 8 digits).
+// Two more (seed 3 deck 39, seed 1 deck 37), both nearly rigid-plastic:
+// - deck C (m = 0.07, mu 5 on die and land, 7 cells across) exits 2 with
+//   Material/Rate sensitivity continuation = false (the friction's paths
+//   fail); with it, it converges by continuation in m: stages from m = 0.5
+//   through one strictly between to the deck's m (rate_sensitivity_stages);
+// - deck D (m = 0.066, mu 4.5 on the container, 1 cell across) converges
+//   at first to a state whose directions held in contact pull on the die
+//   (exit 2 with Contact/Friction continuation = false, the guard's
+//   verdict); with it, that refused state is solved again and the friction
+//   path converges (friction_stages ending with 1);
+// - both keep the contact laws as A and B do (1e-6).
 #include "fuzz_extreme.h"
 
 namespace
@@ -29,7 +40,7 @@ namespace
   {
     int                 status;
     double              force;
-    std::vector<double> stages;
+    std::vector<double> stages, law_stages;
     double              breach;
   };
 
@@ -40,9 +51,11 @@ namespace
     const fuzz::Outcome outcome = fuzz::run("continuation.prm", deck.text() + extra);
     const auto          tree    = fuzz::summary("fuzz-extreme");
     const auto &        last    = tree.get_child("cycles").back().second;
-    Run                 r{outcome.status, fuzz::number(last, "quantities|F_x[1]"), {}, 1};
+    Run                 r{outcome.status, fuzz::number(last, "quantities|F_x[1]"), {}, {}, 1};
     for (const auto &stage : last.get_child("friction_stages"))
       r.stages.push_back(stage.second.get_value<double>());
+    for (const auto &stage : last.get_child("rate_sensitivity_stages"))
+      r.law_stages.push_back(stage.second.get_value<double>());
     if (outcome.status == 0)
       {
         std::string row;
@@ -54,7 +67,8 @@ namespace
     return r;
   }
 
-  const std::string without = "subsection Contact\n  set Friction continuation = false\nend\n";
+  const std::string without = "subsection Contact\n  set Friction continuation = false\nend\n"
+                              "subsection Material\n  set Rate sensitivity continuation = false\nend\n";
   const std::string fixed_point =
     "subsection Contact\n  set Friction continuation = false\n  set Coulomb coupling = fixed point\nend\n";
 } // namespace
@@ -90,5 +104,25 @@ main()
                    b_fixed.status == 0 && std::abs(b_on.force / b_fixed.force - 1) < 1e-6)
             << std::endl;
   std::cout << "deck B: contact checks and Coulomb's law in the die profiles within 1e-6: " << yes(b_on.breach < 1e-6)
+            << std::endl;
+
+  const fuzz::ExtremeDeck c{71.9227, 0.95, 1.44652, 11.3169, 7, 1, 5, 5, 0.261293, 1.28135e8, 0.0699426, false};
+  const fuzz::ExtremeDeck d{48.4083, 10.8371, 0.1, 1.367, 1, 1, 4.51616, 0, 16.2724, 9.80453e8, 0.0663514, false};
+  std::cout << "deck C without the continuation in m: exit 2: "
+            << yes(run(c, "subsection Material\n  set Rate sensitivity continuation = false\nend\n").status == 2)
+            << std::endl;
+  const Run c_on = run(c, "");
+  const auto &m  = c_on.law_stages;
+  std::cout << "deck C: converges through stages from m = 0.5 to the deck's m, one between: "
+            << yes(c_on.status == 0 && m.size() >= 3 && m.front() == 0.5 && m.back() == c.rate_sensitivity &&
+                   std::any_of(m.begin(), m.end(), [&](const double x) { return x < 0.5 && x > c.rate_sensitivity; }))
+            << std::endl;
+  std::cout << "deck C: contact checks and Coulomb's law in the die profiles within 1e-6: " << yes(c_on.breach < 1e-6)
+            << std::endl;
+  std::cout << "deck D without the continuation: exit 2: " << yes(run(d, without).status == 2) << std::endl;
+  const Run d_on = run(d, "");
+  std::cout << "deck D: its refused state solved again, converges at the deck's friction: "
+            << yes(d_on.status == 0 && !d_on.stages.empty() && d_on.stages.back() == 1) << std::endl;
+  std::cout << "deck D: contact checks and Coulomb's law in the die profiles within 1e-6: " << yes(d_on.breach < 1e-6)
             << std::endl;
 }

@@ -112,6 +112,24 @@ namespace fuzz
     const double      x    = std::strtod(text.c_str(), &end);
     return (end != text.c_str() && *end == '\0') ? x : std::nan("");
   }
+  /// The rows of numbers of the text file @p file (a die profile, a table),
+  /// its '#' comment lines skipped; none if there is no file.
+  inline std::vector<std::vector<double>>
+  numeric_rows(const std::string &file)
+  {
+    std::vector<std::vector<double>> rows;
+    std::ifstream                    in(file);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty() && line[0] != '#')
+        {
+          std::istringstream  fields(line);
+          std::vector<double> row;
+          for (double x; fields >> x;)
+            row.push_back(x);
+          rows.push_back(row);
+        }
+    return rows;
+  }
   /**
    * The largest breach of Coulomb's law with coefficient @p mu (relative
    * to the largest pressure or speed) in a die profile file written by a
@@ -123,18 +141,10 @@ namespace fuzz
   inline double
   coulomb_breach(const std::string &file, const double mu)
   {
-    std::ifstream                    in(file);
     std::vector<std::vector<double>> rows;
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty() && line[0] != '#')
-        {
-          std::istringstream  words(line);
-          std::vector<double> row;
-          for (double x; words >> x;)
-            row.push_back(x);
-          if (row.size() >= 8)
-            rows.push_back(row);
-        }
+    for (const auto &row : numeric_rows(file))
+      if (row.size() >= 8)
+        rows.push_back(row);
     if (rows.empty())
       return 1;
     double p_max = 0, v_max = 0;

@@ -154,7 +154,7 @@ namespace fuzz
         for (char &c : failure)
           c = (c == '|' || c == '\n') ? ' ' : c;
         // The first solve's reason first, then how far the continuation got.
-        const std::string tried = "Contact/Friction continuation): ";
+        const std::string tried = " continuation): ";
         if (const auto at = failure.find(tried); at != std::string::npos)
           {
             const auto reached = failure.find("reached ");

@@ -59,10 +59,13 @@ main()
   // slower than v0 at rest before): from the Newtonian start, Newton's
   // first step on, this deck does not converge (exit 2), and the first
   // advice of its message (Picard steps first) must: the runs below use
-  // the deck with that advice followed.
+  // the deck with that advice followed. (Its Newton iteration ends in a
+  // state that pulls on the die; the fallbacks, off here, solve it again
+  // and converge: Contact/Friction continuation, stages 0, 0.5, 1.)
   std::string picard_first;
   {
-    const std::string as_is = deck("Norton-Hoff", 0.2, regularised, 1, 1e-4, "");
+    const std::string as_is = deck("Norton-Hoff", 0.2, regularised + "  set Friction continuation = false\n", 1, 1e-4,
+                                   "subsection Material\n  set Rate sensitivity continuation = false\nend\n");
     const fuzz::Outcome outcome = fuzz::run("scaled.prm", as_is);
     const std::string   failure = outcome.status == 2 ? fuzz::summary("scaled").get<std::string>("failure", "") : "";
     const std::string   advised = fuzz::apply_advice(failure, as_is);

@@ -167,6 +167,14 @@ namespace dieflow
                         Double(),
                         "Norton-Hoff rate sensitivity m, in (0, 1]; m = 1 is "
                         "Newtonian with eta = K/3, m -> 0 is rigid-plastic.");
+      prm.declare_entry("Rate sensitivity continuation",
+                        "true",
+                        Bool(),
+                        "Where Newton's method fails with a Norton-Hoff m below 0.5 (nearly "
+                        "rigid-plastic; after the friction's fallbacks, Contact/Friction "
+                        "continuation), solve the mesh again at m = 0.5 and lower m in stages "
+                        "to the deck's, each stage from the last converged one; only the "
+                        "deck's m is reported.");
       prm.declare_entry("Sellars-Tegart alpha",
                         "0.040",
                         Double(),
@@ -308,7 +316,9 @@ namespace dieflow
         require(std::isfinite(m) && m > 0 && m <= 1,
                 "Material/Rate sensitivity m",
                 "must lie in (0, 1], got " + prm.get("Rate sensitivity m"));
-        law = std::make_shared<NortonHoffLaw>(positive("Consistency K"), m);
+        consistency      = positive("Consistency K");
+        rate_sensitivity = m;
+        law              = std::make_shared<NortonHoffLaw>(consistency, m);
       }
     else
       {
@@ -349,6 +359,7 @@ namespace dieflow
             "must be 0 with Law = Hansel-Spittel (its strain terms m2, m4, m5, m7 are its hardening)");
     if (hardens())
       hardening_strain = positive("Hardening strain eps0");
+    rate_sensitivity_continuation = prm.get_bool("Rate sensitivity continuation");
     reference_strain_rate = prm.get_double("Reference strain rate");
     require(std::isfinite(reference_strain_rate) && reference_strain_rate >= 0,
             "Material/Reference strain rate",
@@ -363,6 +374,16 @@ namespace dieflow
   {
     law      = std::make_shared<NewtonianLaw>(eta);
     law_name = "Newtonian";
+  }
+
+
+
+  void
+  Material::set_rate_sensitivity(const double m)
+  {
+    Assert(kind == Kind::norton_hoff, dealii::ExcInternalError());
+    rate_sensitivity = m;
+    law              = std::make_shared<NortonHoffLaw>(consistency, m);
   }
 
 

@@ -1,5 +1,6 @@
 // How much mass the penalty lets the metal lose: the two measures, the guard's verdict on them, and what to change when it fails.
 #include <dieflow/postprocess/mass_balance.h>
+#include <dieflow/flow/material.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -102,7 +103,7 @@ namespace dieflow
     // The penalty's compressibility scales as 1/lambda: the factor that
     // brings the worse measure to a hundredth of the tolerance, rounded
     // up to a power of ten.
-    constexpr double largest = 1e10;
+    constexpr double largest = Material::largest_penalty_factor;
     const double     needed =
       std::pow(10., std::ceil(std::log10(penalty_factor * balance.worst() / (0.01 * tolerance)) - 1e-9));
     if (penalty_factor >= largest)

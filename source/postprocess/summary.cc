@@ -245,6 +245,7 @@ namespace dieflow
           {"pressure_recoveries", s.pressure_recoveries},
           {"incompressibility", s.incompressibility},
           {"friction_stages", numbers(s.friction_stages)},
+          {"rate_sensitivity_stages", numbers(s.rate_sensitivity_stages)},
           {"linear_solver",
            {{"method", s.linear_method}, {"symbolic_analyses", l.symbolic_analyses},
             {"cholesky_factorisations", l.cholesky_factorisations}, {"lu_factorisations", l.lu_factorisations},

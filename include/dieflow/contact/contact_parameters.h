@@ -56,8 +56,9 @@ namespace dieflow
     double                       tangential_penalty_factor = 100;
     double                       regularisation_velocity   = 0;
     double                       active_set_constant       = 1;
-    /// A mesh whose Newton iteration fails is solved again from the
-    /// frictionless problem, the friction raised in stages.
+    /// A mesh whose Newton iteration fails at the deck's friction is solved
+    /// again: with Coulomb's bound at its fixed point, then from the
+    /// frictionless problem with the friction raised in stages.
     bool                         friction_continuation     = true;
     /// Die ids whose die is a surface mesh of its own (Gmsh file names).
     std::map<BoundaryId, std::string> die_surface_files;

@@ -209,11 +209,6 @@ namespace dieflow
     {
       friction_scale = scale;
     }
-    double
-    get_friction_scale() const
-    {
-      return friction_scale;
-    }
     /// Every direction back in contact and slipping, as setup() starts it
     /// (the free surface's approaching ones separated), with no force.
     void

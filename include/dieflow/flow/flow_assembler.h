@@ -136,6 +136,13 @@ namespace dieflow
                 const double           step);
 
     FlowAssembler(const Material &material, const dealii::Function<dim> *body_force);
+    /// Assembles with @p material's law from now on (a continuation's stage);
+    /// kept by reference.
+    void
+    set_material(const Material &material)
+    {
+      this->material = &material;
+    }
 
     void
     set_coordinate_system(const CoordinateSystem<dim> &c)

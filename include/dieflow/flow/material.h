@@ -254,6 +254,18 @@ namespace dieflow
     /// Replaces the law by a Newtonian one (the Newtonian start).
     void
     set_newtonian(const double eta);
+    /// Norton-Hoff's law with the rate sensitivity @p m (a continuation's stage).
+    void
+    set_rate_sensitivity(const double m);
+    /// Whether a failed Newton iteration is solved again by continuation in
+    /// m (DieFlowProblem::continue_in_friction()): Norton-Hoff below
+    /// continuation_rate_sensitivity, and the deck allows it.
+    bool
+    continues_in_rate_sensitivity() const
+    {
+      return kind == Kind::norton_hoff && rate_sensitivity_continuation &&
+             rate_sensitivity < continuation_rate_sensitivity;
+    }
 
     const ViscosityLaw &
     viscosity_law() const
@@ -289,6 +301,13 @@ namespace dieflow
       hansel_spittel
     };
     Kind kind = Kind::newtonian;
+    /// Norton-Hoff's K and m (set_rate_sensitivity() keeps K).
+    double consistency = 0, rate_sensitivity = 1;
+    bool   rate_sensitivity_continuation = true;
+    /// The m a continuation in m starts from: of the 20 decks of the extreme
+    /// corpus (doc/stress.md) with m 0.02 to 0.25 whose Newton iteration
+    /// failed, 14 converge when their m is set to 0.5, 10 at 0.2.
+    static constexpr double continuation_rate_sensitivity = 0.5;
     /// Name of the law as in the deck.
     std::string law_name;
     /// Hansel-Spittel's strain constants (g(eps, T) of HanselSpittelLaw).

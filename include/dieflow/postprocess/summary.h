@@ -80,6 +80,9 @@ namespace dieflow
     /// stages that converged, in order (1: the deck's; the first at 1 with
     /// Coulomb's bound at its fixed point); empty: not needed.
     std::vector<double> friction_stages;
+    /// The rate sensitivities m of the continuation in the law's stages
+    /// that converged (the last the deck's); empty: not needed.
+    std::vector<double> rate_sensitivity_stages;
     LinearSolverCounts linear_counts;
     /// Integral of the traction sigma n over each boundary part (N/mm in 2D).
     std::map<BoundaryId, std::vector<double>> boundary_force;

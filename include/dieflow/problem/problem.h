@@ -136,7 +136,7 @@ namespace dieflow
     /// Newton's method (after the Newtonian start on the first cycle) and the free surface.
     NonlinearResult
     solve_cycle(const unsigned int cycle, CycleSummary &cycle_summary);
-    /// A failed Newton iteration again from @p start: Coulomb's fixed point, then the friction in stages. (continuation.cc)
+    /// A failed Newton iteration again from @p start: Coulomb's fixed point, the friction, then m in stages. (continuation.cc)
     NonlinearResult
     continue_in_friction(const Vector<double> &start, NonlinearResult failed, CycleSummary &cycle);
     /// The report and its guards; a guard's failure into @p result.
