@@ -4,5 +4,5 @@
 int
 main()
 {
-  fuzz::run_extreme_corpus(2, 80, 73, 1);
+  fuzz::run_extreme_corpus(2, 80, 75, 1);
 }

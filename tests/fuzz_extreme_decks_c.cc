@@ -4,5 +4,5 @@
 int
 main()
 {
-  fuzz::run_extreme_corpus(3, 20, 14, 1);
+  fuzz::run_extreme_corpus(3, 20, 15, 1);
 }

@@ -4,5 +4,5 @@
 int
 main()
 {
-  fuzz::run_extreme_corpus(3, 40, 12, 0, 20);
+  fuzz::run_extreme_corpus(3, 40, 15, 0, 20);
 }
