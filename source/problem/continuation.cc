@@ -66,12 +66,16 @@ namespace dieflow
     const bool coulomb_bound     = deck.law == FrictionLaw::Kind::coulomb && !deck.uses_penalty();
     const bool fixed_point_first = friction_path && coulomb_bound &&
                                    deck.coulomb_coupling != ContactParameters::CoulombCoupling::fixed_point;
+    std::ostringstream m_start_text;
+    m_start_text << Material::continuation_rate_sensitivity;
+    const std::string m_from = m_start_text.str(); // the m the continuation in m starts from, as printed
     log << " again from the start"
         << (fixed_point_first ? " with Coulomb's bound frozen at each iteration's normal force (fixed point), then" : "")
         << (friction_path ? " by continuation from the frictionless problem (Contact/Friction continuation)" : "")
         << (friction_path && law_path ? ", then" : "")
-        << (law_path ? " by continuation in the rate sensitivity from m = 0.5 (Material/Rate sensitivity continuation)" :
-                       "")
+        << (law_path ? " by continuation in the rate sensitivity from m = " + m_from +
+                         " (Material/Rate sensitivity continuation)" :
+                       std::string())
         << std::endl;
     unsigned int                 iterations = failed.iterations, linear_solves = failed.linear_solves;
     std::vector<IterationRecord> history    = failed.history;
@@ -175,6 +179,7 @@ namespace dieflow
     // viscosity is, at m = 0.5, up to a hundred times that factor: beyond
     // double precision at 1e10); the deck's stage has the deck's.
     const double m_deck = material.rate_sensitivity, m_start = Material::continuation_rate_sensitivity;
+    const auto   m_at     = [&](const double t) { return m_start * std::pow(m_deck / m_start, t); };
     const double eta_deck = incompressibility.viscosity_scale();
     Material     staged   = material;
     const auto   scale_to = [&](const double eta) {
@@ -190,7 +195,7 @@ namespace dieflow
               scale_to(eta_deck);
               return m_deck;
             }
-          staged.set_rate_sensitivity(m_start * std::pow(m_deck / m_start, t));
+          staged.set_rate_sensitivity(m_at(t));
           assembler.set_material(staged);
           scale_to(assembler.mean_viscosity(dof_handler, start));
           return staged.rate_sensitivity;
@@ -214,7 +219,7 @@ namespace dieflow
           log << "  converged at the deck's friction and law" << std::endl;
         return with_totals(result);
       }
-    if (refused_velocity.size() > 0)
+    if (failed.converged)
       {
         // The paths failed: the first converged state, for the guard.
         velocity = refused_velocity;
@@ -234,9 +239,9 @@ namespace dieflow
     if (law_path)
       {
         std::ostringstream m;
-        m << std::setprecision(3) << m_start * std::pow(m_deck / m_start, std::max(law_reached, 0.));
-        tried << "continuation in the rate sensitivity from m = 0.5 "
-              << (law_reached < 0 ? std::string("failed at m = 0.5") : "reached m = " + m.str());
+        m << std::setprecision(3) << m_at(std::max(law_reached, 0.));
+        tried << "continuation in the rate sensitivity from m = " << m_from << ' '
+              << (law_reached < 0 ? "failed at m = " + m_from : "reached m = " + m.str());
       }
     tried << ", " << (friction_path ? "Contact/Friction continuation" : "")
           << (friction_path && law_path ? " and " : "") << (law_path ? "Material/Rate sensitivity continuation" : "")
