@@ -6,7 +6,9 @@
 // that could help is in use, point at the boundary conditions), (c) say why
 // it stopped.
 // The contact, viscosity-law and mass-balance advice are checked for each
-// friction law, each law kind, and each penalty regime.
+// friction law, each law kind, and each penalty regime; a frictionless deck
+// is not told to change its friction law, and a Tresca deck with Coulomb's
+// coefficients but no bound is warned that it runs frictionless.
 #include <dieflow/contact/contact_parameters.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/postprocess/mass_balance.h>
@@ -207,6 +209,27 @@ main()
   for (const auto &change : contact.settling_changes())
     lowers_zero |= contains(change, "lower Contact/Friction coefficients");
   report("mu = 0: no advice to lower the friction coefficient", !lowers_zero);
+  bool changes_law_zero = false;
+  for (const auto &change : contact.settling_changes())
+    changes_law_zero |= contains(change, "Friction law");
+  report("mu = 0: no advice to change a friction law that transmits nothing", !changes_law_zero);
+
+  // A Tresca deck with Coulomb's coefficients and no bound runs frictionless:
+  // it is told so; with a bound (factors and k), or under Coulomb, it is not.
+  contact.die_ids                 = {3};
+  contact.friction_coefficient[3] = 0.5;
+  contact.tresca_factor.clear();
+  contact.shear_flow_stress = 0;
+  contact.law               = FrictionLaw::Kind::tresca;
+  const std::string unused  = contact.unused_friction_warning();
+  report("Tresca law, Coulomb coefficients, no bound: warned, the entries named",
+         contains(unused, "Contact/Tresca friction factors") && contains(unused, "frictionless"));
+  contact.tresca_factor[3]  = 0.5;
+  report("Tresca law, factors but k = 0: still warned", !contact.unused_friction_warning().empty());
+  contact.shear_flow_stress = 100;
+  report("Tresca law with a bound: no warning", contact.unused_friction_warning().empty());
+  contact.law = FrictionLaw::Kind::coulomb;
+  report("Coulomb law: no warning", contact.unused_friction_warning().empty());
 
   // The viscosity-law advice: a minimum strain rate only where the law has one.
   ParameterHandler prm;

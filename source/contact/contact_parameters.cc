@@ -232,9 +232,17 @@ namespace dieflow
           if (coulomb_coupling != CoulombCoupling::fixed_point && any_positive(friction_coefficient) &&
               !friction_continuation)
             changes.emplace_back("set Contact/Coulomb coupling = fixed point");
-          changes.emplace_back("set Contact/Friction law = Tresca or regularised Coulomb");
+          // Where the fallbacks failed (doc/stress.md, 14 extreme decks whose
+          // contact did not settle), Tresca's law with a bound converged 13
+          // times, the regularised law twice, a mesh twice as fine once; a
+          // frictionless deck has no friction law to change.
           if (any_positive(friction_coefficient))
-            changes.emplace_back("lower Contact/Friction coefficients");
+            {
+              changes.emplace_back("set Contact/Friction law = Tresca (with Contact/Tresca friction factors and "
+                                   "Shear flow stress: a bound that does not follow the normal force) or "
+                                   "regularised Coulomb");
+              changes.emplace_back("lower Contact/Friction coefficients");
+            }
           break;
         case FrictionLaw::Kind::tresca:
           changes.emplace_back("set Contact/Friction law = regularised Coulomb");
@@ -251,6 +259,23 @@ namespace dieflow
           break;
       }
     return changes;
+  }
+
+
+
+  std::string
+  ContactParameters::unused_friction_warning() const
+  {
+    // Each law reads its own entries: a deck that names Tresca's law and
+    // gives Coulomb's coefficients (as the settling advice may lead a user
+    // to) would otherwise run frictionless without a word.
+    const auto any_positive = [](const std::map<BoundaryId, double> &values) {
+      return std::any_of(values.begin(), values.end(), [](const auto &v) { return v.second > 0; });
+    };
+    if (law != FrictionLaw::Kind::tresca || has_friction() || !any_positive(friction_coefficient))
+      return "";
+    return "Contact/Friction law = Tresca bounds the wall shear by Contact/Tresca friction factors x Shear flow "
+           "stress, zero here (the dies are frictionless); Contact/Friction coefficients are Coulomb's and unused";
   }
 
 

@@ -100,6 +100,11 @@ namespace dieflow
         log << "  warning: " << warning << std::endl;
         summary.warnings.push_back(warning);
       }
+    if (const std::string warning = parameters.contact.unused_friction_warning(); !warning.empty())
+      {
+        log << "  warning: " << warning << std::endl;
+        summary.warnings.push_back(warning);
+      }
     if constexpr (dim == 2)
       if (parameters.free_surface.enabled())
         free_surface.initialize(triangulation, parameters.contact.die_ids, parameters.free_surface,

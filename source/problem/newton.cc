@@ -197,7 +197,11 @@ namespace dieflow
   DieFlowProblem<dim>::contact_changes() const
   {
     std::vector<std::string> changes = parameters.contact.settling_changes();
-    changes.insert(changes.begin(), "refine the mesh at the die");
+    // Coulomb friction that did not settle: the law's changes first, the
+    // mesh last (measured, ContactParameters::settling_changes()).
+    const bool coulomb_friction =
+      parameters.contact.law == FrictionLaw::Kind::coulomb && parameters.contact.has_friction();
+    changes.insert(coulomb_friction ? changes.end() : changes.begin(), "refine the mesh at the die");
     // The regularised law from Newton's first step: on die2d (blocks, m =
     // 0.2, mu = 0.3, at 1e-6, 1 and 1e6 mm/s; P1 with mu = 0.3, with and
     // without its free surface) the land's directions kept entering and

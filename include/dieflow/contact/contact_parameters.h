@@ -98,6 +98,10 @@ namespace dieflow
     /// none of them in use already (for the failure message).
     std::vector<std::string>
     settling_changes() const;
+    /// A Tresca deck with Coulomb coefficients and a zero bound: the
+    /// warning that it runs frictionless (empty otherwise).
+    std::string
+    unused_friction_warning() const;
   };
 } // namespace dieflow
 

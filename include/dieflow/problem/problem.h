@@ -46,7 +46,7 @@ namespace dieflow
    *       update_state -> assemble_system -> solve -> line search ->
    *       accept_step                                       (newton.cc);
    *       where it fails, at Coulomb's fixed point, then in stages of
-   *       friction from frictionless                  (continuation.cc);
+   *       friction from frictionless, then of m       (continuation.cc);
    *     a steady free surface moved onto the streamlines till it settles (free_surface.cc);
    *     the temperature, the strain and the flow in turn until they settle (heat.cc);
    *     the report (CycleReport), its guards, the study, summary.json;
