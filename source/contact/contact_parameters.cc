@@ -9,6 +9,18 @@
 
 namespace dieflow
 {
+  namespace
+  {
+    /// True where some id's value (a friction coefficient, a Tresca factor) is positive.
+    bool
+    any_positive(const std::map<BoundaryId, double> &values)
+    {
+      return std::any_of(values.begin(), values.end(), [](const auto &v) { return v.second > 0; });
+    }
+  } // namespace
+
+
+
   void
   ContactParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -221,9 +233,6 @@ namespace dieflow
   {
     // Only what the deck does not say already: a smooth or pressure-free
     // law has no stick/slip switch to cycle on.
-    const auto any_positive = [](const std::map<BoundaryId, double> &values) {
-      return std::any_of(values.begin(), values.end(), [](const auto &v) { return v.second > 0; });
-    };
     std::vector<std::string> changes;
     switch (law)
       {
@@ -269,9 +278,6 @@ namespace dieflow
     // Each law reads its own entries: a deck that names Tresca's law and
     // gives Coulomb's coefficients (as the settling advice may lead a user
     // to) would otherwise run frictionless without a word.
-    const auto any_positive = [](const std::map<BoundaryId, double> &values) {
-      return std::any_of(values.begin(), values.end(), [](const auto &v) { return v.second > 0; });
-    };
     if (law != FrictionLaw::Kind::tresca || has_friction() || !any_positive(friction_coefficient))
       return "";
     return "Contact/Friction law = Tresca bounds the wall shear by Contact/Tresca friction factors x Shear flow "

@@ -90,21 +90,18 @@ namespace dieflow
                              parameters.contact.die_ids,
                              die_surfaces,
                              parameters.boundary_conditions.traction_free_ids);
+    // The deck's warnings: on the log and in summary.json.
+    const auto warn = [&](const std::string &warning) {
+      log << "  warning: " << warning << std::endl;
+      summary.warnings.push_back(warning);
+    };
     if (parameters.material.deck_penalty_factor > parameters.material.penalty_factor)
-      {
-        const std::string warning = "Material/Penalty factor = " +
-                                    deck_number(parameters.material.deck_penalty_factor) +
-                                    " is beyond double precision (round-off of about 1e-16 x factor in the reactions, "
-                                    "more than the 1/factor it changes): solved at " +
-                                    deck_number(parameters.material.penalty_factor);
-        log << "  warning: " << warning << std::endl;
-        summary.warnings.push_back(warning);
-      }
+      warn("Material/Penalty factor = " + deck_number(parameters.material.deck_penalty_factor) +
+           " is beyond double precision (round-off of about 1e-16 x factor in the reactions, "
+           "more than the 1/factor it changes): solved at " +
+           deck_number(parameters.material.penalty_factor));
     if (const std::string warning = parameters.contact.unused_friction_warning(); !warning.empty())
-      {
-        log << "  warning: " << warning << std::endl;
-        summary.warnings.push_back(warning);
-      }
+      warn(warning);
     if constexpr (dim == 2)
       if (parameters.free_surface.enabled())
         free_surface.initialize(triangulation, parameters.contact.die_ids, parameters.free_surface,
