@@ -380,7 +380,7 @@ namespace dieflow
     if (pass_change.linfty_norm() <= 1e-11 * temperature.linfty_norm())
       break;
     AssertThrow(pass < 100,
-                dealii::ExcMessage("the temperature with Heat/Specific heat table, Conductivity table or Emissivities "
+                dealii::ExcMessage("the temperature with Heat/Density table, Specific heat table, Conductivity table or Emissivities "
                                    "did not settle in 100 solves (the last changed T by " +
                                    deck_number(pass_change.linfty_norm()) + " K)"));
     }

@@ -46,6 +46,15 @@ namespace dieflow
                         "c tabulated in T: 'T: c, T: c, ...' (K: J/(kg K), T ascending), "
                         "linear between the points and constant beyond them; the heat "
                         "content is int rho c dT. Empty: the constant Specific heat.");
+      prm.declare_entry("Density table",
+                        "",
+                        Anything(),
+                        "rho tabulated in T: 'T: rho, T: rho, ...' (K: kg/m^3, T ascending), "
+                        "linear between the points and constant beyond them; with the "
+                        "Specific heat (table) it makes the heat capacity per volume rho c "
+                        "and the heat content int rho c dT. The flow stays incompressible: "
+                        "the density's change with T (a few % over hot working) enters the "
+                        "heat equation only. Empty: the constant Density.");
       prm.declare_entry("Conductivity table",
                         "",
                         Anything(),
@@ -169,23 +178,57 @@ namespace dieflow
 
 
 
-  double
-  ThermalProperty::value(const double T) const
+  namespace
   {
-    if (T <= points.front().first)
-      return points.front().second;
-    if (T >= points.back().first)
-      return points.back().second;
-    const auto lower = segment(T), upper = lower + 1;
-    return lower->second + (upper->second - lower->second) * (T - lower->first) / (upper->first - lower->first);
+    /// A table's value at @p T: linear between its points, constant beyond them.
+    double
+    table_value(const std::vector<std::pair<double, double>> &table, const double T)
+    {
+      if (T <= table.front().first)
+        return table.front().second;
+      if (T >= table.back().first)
+        return table.back().second;
+      const auto upper =
+        std::upper_bound(table.begin(), table.end(), T, [](const double t, const auto &p) { return t < p.first; });
+      const auto lower = upper - 1;
+      return lower->second + (upper->second - lower->second) * (T - lower->first) / (upper->first - lower->first);
+    }
+
+    /// A table's slope at @p T (0 beyond its ends and for a constant).
+    double
+    table_slope(const std::vector<std::pair<double, double>> &table, const double T)
+    {
+      if (T <= table.front().first || T >= table.back().first)
+        return 0;
+      const auto upper =
+        std::upper_bound(table.begin(), table.end(), T, [](const double t, const auto &p) { return t < p.first; });
+      const auto lower = upper - 1;
+      return (upper->second - lower->second) / (upper->first - lower->first);
+    }
+  } // namespace
+
+
+
+  void
+  ThermalProperty::times(const ThermalProperty &other)
+  {
+    // (Two tables at most: parse_parameters() multiplies c by rho once.)
+    factor = other.points;
+    if (factor.size() == 1)
+      {
+        // A constant factor scales the table.
+        for (auto &p : points)
+          p.second *= factor.front().second;
+        factor = {{0., 1.}};
+      }
   }
 
 
 
-  std::vector<std::pair<double, double>>::const_iterator
-  ThermalProperty::segment(const double T) const
+  double
+  ThermalProperty::value(const double T) const
   {
-    return std::upper_bound(points.begin(), points.end(), T, [](const double t, const auto &p) { return t < p.first; }) - 1;
+    return table_value(points, T) * table_value(factor, T);
   }
 
 
@@ -193,10 +236,7 @@ namespace dieflow
   double
   ThermalProperty::slope(const double T) const
   {
-    if (T <= points.front().first || T >= points.back().first)
-      return 0;
-    const auto lower = segment(T);
-    return ((lower + 1)->second - lower->second) / ((lower + 1)->first - lower->first);
+    return table_slope(points, T) * table_value(factor, T) + table_value(points, T) * table_slope(factor, T);
   }
 
 
@@ -205,16 +245,24 @@ namespace dieflow
   ThermalProperty::integral(const double T) const
   {
     if (is_constant())
-      return points.front().second * T;
-    // Constant below the first point (from 0 K) and above the last; the trapezoid between points is exact.
-    double sum = points.front().second * std::min(T, points.front().first);
-    for (std::size_t i = 1; i < points.size() && T > points[i - 1].first; ++i)
+      return value(0.) * T;
+    // From 0 K over the pieces between the tables' points, on each of
+    // which the value is at most quadratic: Simpson's rule is exact.
+    std::vector<double> breaks;
+    for (const Table *table : {&points, &factor})
+      if (table->size() > 1)
+        for (const auto &p : *table)
+          if (p.first < T)
+            breaks.push_back(p.first);
+    breaks.push_back(T);
+    std::sort(breaks.begin(), breaks.end());
+    double sum = 0, a = 0;
+    for (const double b : breaks)
       {
-        const double a = points[i - 1].first, b = std::min(T, points[i].first);
-        sum += 0.5 * (points[i - 1].second + value(b)) * (b - a);
+        if (b > a)
+          sum += (b - a) / 6 * (value(a) + 4 * value(0.5 * (a + b)) + value(b));
+        a = std::max(a, b);
       }
-    if (T > points.back().first && points.size() > 1)
-      sum += points.back().second * (T - points.back().first);
     return sum;
   }
 
@@ -261,11 +309,20 @@ namespace dieflow
       return x;
     };
     // SI to mm, s, N, K (heat_parameters.h).
-    const double density = positive("Density");
-    if (prm.get("Specific heat table").find_first_not_of(" \t") == std::string::npos)
-      heat_capacity.set_constant(1e-6 * density * positive("Specific heat"));
+    const auto tabulated = [&](const std::string &entry) {
+      return prm.get(entry).find_first_not_of(" \t") != std::string::npos;
+    };
+    // rho c in N/(mm^2 K) = 1e-6 rho[kg/m^3] c[J/(kg K)].
+    ThermalProperty density;
+    if (tabulated("Density table"))
+      density.parse_table("Heat/Density table", prm.get("Density table"), 1e-6);
     else
-      heat_capacity.parse_table("Heat/Specific heat table", prm.get("Specific heat table"), 1e-6 * density);
+      density.set_constant(1e-6 * positive("Density"));
+    if (tabulated("Specific heat table"))
+      heat_capacity.parse_table("Heat/Specific heat table", prm.get("Specific heat table"), 1.);
+    else
+      heat_capacity.set_constant(positive("Specific heat"));
+    heat_capacity.times(density);
     if (prm.get("Conductivity table").find_first_not_of(" \t") == std::string::npos)
       conductivity.set_constant(positive("Conductivity"));
     else

@@ -15,9 +15,11 @@ namespace dieflow
   /**
    * A thermal property of the metal as a function of T: a constant, or
    * linear between the points (T_i, p_i) of a table and constant beyond
-   * its ends. integral(T) = int_0^T p(s) ds, exactly (piecewise
-   * quadratic): with p = rho c the heat content (enthalpy) per volume,
-   * with p = k Kirchhoff's transform.
+   * its ends; or the product of two such (times(): rho c with both rho and
+   * c tabulated, quadratic between the union of their points).
+   * integral(T) = int_0^T p(s) ds, exactly (Simpson's rule on each piece
+   * between the points, where p is at most quadratic): with p = rho c the
+   * heat content (enthalpy) per volume, with p = k Kirchhoff's transform.
    */
   class ThermalProperty
   {
@@ -29,25 +31,29 @@ namespace dieflow
     void
     parse_table(const std::string &entry, const std::string &text, const double scale);
 
+    /// This property times @p other (both tables kept: the product is exact).
+    void
+    times(const ThermalProperty &other);
+
     double
     value(const double T) const;
     double
     integral(const double T) const;
-    /// dp/dT (0 beyond the table's ends and for a constant).
+    /// dp/dT (0 beyond the tables' ends and for a constant).
     double
     slope(const double T) const;
     bool
     is_constant() const
     {
-      return points.size() == 1;
+      return points.size() == 1 && factor.size() == 1;
     }
 
   private:
-    /// The table's point that begins the segment holding @p T (inside the table).
-    std::vector<std::pair<double, double>>::const_iterator
-    segment(const double T) const;
+    using Table = std::vector<std::pair<double, double>>;
     /// (T_i, p_i), ascending in T; one point for a constant (its T unused).
-    std::vector<std::pair<double, double>> points = {{0., 0.}};
+    Table points = {{0., 0.}};
+    /// times()'s factor (the constant 1 otherwise).
+    Table factor = {{0., 1.}};
   };
 
   /**
@@ -81,7 +87,7 @@ namespace dieflow
     Stabilisation stabilisation = Stabilisation::supg;
     /// Degree of the temperature element; 0: the velocity's.
     unsigned int degree = 0;
-    /// rho c in N/(mm^2 K), k in N/(s K): constant, or tabulated in T (Specific heat table, Conductivity table).
+    /// rho c in N/(mm^2 K), k in N/(s K): constant, or tabulated in T (Density table and Specific heat table, Conductivity table).
     ThermalProperty heat_capacity, conductivity;
     /// The share of the plastic work that becomes heat (Taylor-Quinney), of the friction work that goes into the metal.
     double taylor_quinney = 0.9, friction_share = 0.5;
