@@ -9,7 +9,7 @@ namespace dieflow
 {
   namespace
   {
-    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 4";
+    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 5";
   } // namespace
 
 
@@ -29,8 +29,8 @@ namespace dieflow
       // The mesh (deal.II's serialisation: the moved vertices, the
       // boundary ids) and the solution on it; then each piece's state.
       triangulation.save(ar, 0);
-      double viscosity_scale = incompressibility.viscosity_scale();
-      ar << velocity << viscosity_scale;
+      ar << velocity;
+      incompressibility.save(ar);
       incremental.save(ar, triangulation);
       save_dies(ar, die_surfaces);
       contact.save(ar);
@@ -87,9 +87,8 @@ namespace dieflow
         triangulation.load(ar, 0);
         dof_handler.reinit(triangulation);
         dof_handler.distribute_dofs(fe);
-        double viscosity_scale = 0;
-        ar >> velocity >> viscosity_scale;
-        incompressibility.set_viscosity_scale(viscosity_scale);
+        ar >> velocity;
+        incompressibility.load(ar);
         incremental.load(ar);
         load_dies(ar, die_surfaces);
         contact.load(ar);

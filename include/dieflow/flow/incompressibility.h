@@ -124,6 +124,22 @@ namespace dieflow
      */
     void
     augment(const Vector<double> &v);
+    /// Checkpoints: eta_m, and whether augment() was called (a restarted
+    /// run goes on augmented where the uninterrupted one did).
+    template <class Archive>
+    void
+    save(Archive &ar) const
+    {
+      ar << eta_m << augmented_direct;
+    }
+    template <class Archive>
+    void
+    load(Archive &ar)
+    {
+      double eta = 0;
+      ar >> eta >> augmented_direct;
+      set_viscosity_scale(eta);
+    }
     /// lambda/eta (penalty, mixed) or r/eta (augmented Lagrangian).
     double
     factor() const;
