@@ -121,6 +121,9 @@ namespace dieflow
     dof_handler.distribute_dofs(fe);
     AssertDimension(carried.size(), dof_handler.n_dofs());
     temperature = std::move(carried);
+    // Another mesh's cells: the step onto it is not made again (correct_step()).
+    step_start.reinit(0);
+    step_sources = StepSources();
     record_state();
   }
 
@@ -157,6 +160,36 @@ namespace dieflow
                            const double                                              dt,
                            const dealii::Vector<double> *                            cell_hardening,
                            const std::vector<double> *                               point_hardening)
+  {
+    return solve_from(flow_dofs, velocity, friction, dt, cell_hardening, point_hardening, nullptr, nullptr);
+  }
+
+
+
+  template <int dim>
+  double
+  HeatEquation<dim>::correct_step(const dealii::DoFHandler<dim> &        flow_dofs,
+                                  const dealii::Vector<double> &         velocity,
+                                  const std::vector<FrictionWork<dim>> & friction,
+                                  const double                           dt,
+                                  const dealii::Vector<double> *         cell_hardening)
+  {
+    Assert(can_correct(), dealii::ExcMessage("no first solve of the step on this mesh"));
+    return solve_from(flow_dofs, velocity, friction, dt, cell_hardening, nullptr, &step_start, &step_sources);
+  }
+
+
+
+  template <int dim>
+  double
+  HeatEquation<dim>::solve_from(const dealii::DoFHandler<dim> &        flow_dofs,
+                                const dealii::Vector<double> &         velocity,
+                                const std::vector<FrictionWork<dim>> & friction,
+                                const double                           dt,
+                                const dealii::Vector<double> *         cell_hardening,
+                                const std::vector<double> *            point_hardening,
+                                const dealii::Vector<double> *         start,
+                                const StepSources *                    earlier)
   {
     const double beta = parameters.taylor_quinney;
     // Properties tabulated in T make the equation nonlinear: solved again
@@ -196,14 +229,26 @@ namespace dieflow
     std::vector<StrainRate<dim>>                 D(n_q);
     std::vector<double>                          advection(n), strong(n);
 
-    // T at the start: T_n in time, the coupling's last T when steady.
-    const dealii::Vector<double> previous      = temperature;
-    double                       friction_heat = 0;
+    // T at the start: T_n in time, the coupling's last T when steady; the
+    // flow's T (the sources'), the current one.
+    const dealii::Vector<double> flow_temperature = temperature;
+    const dealii::Vector<double> previous         = start != nullptr ? *start : temperature;
+    double                       friction_heat    = 0;
+    // The trapezoid (correct_step()): half these sources, half the earlier.
+    const double own = earlier != nullptr ? 0.5 : 1.;
+    // A step's first solve keeps its sources for correct_step().
+    const bool keep = transient && earlier == nullptr;
+    StepSources sources;
+    if (keep)
+      sources.cells.resize(triangulation.n_active_cells());
+    std::vector<double> T_flow(n_q);
     for (unsigned int pass = 1;; ++pass)
     {
     matrix = 0;
     rhs    = 0;
     last   = HeatRecord();
+    sources.plastic_work = sources.friction_work = 0;
+    sources.nodes.clear();
     prescribed_rows.clear();
     auto flow_cell = flow_dofs.begin_active();
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -212,6 +257,7 @@ namespace dieflow
         flow_values.reinit(flow_cell);
         fe_values.get_function_values(previous, T_old);
         fe_values.get_function_values(temperature, T_now);
+        fe_values.get_function_values(flow_temperature, T_flow);
         if (supg && tabulated)
           fe_values.get_function_gradients(temperature, grad_T_now);
         flow_values[velocities].get_function_values(velocity, v);
@@ -220,6 +266,8 @@ namespace dieflow
         cell_rhs    = 0;
         const double h = cell->diameter() / std::sqrt(double(dim)) / fe.degree;
         const double cell_factor = cell_hardening != nullptr ? (*cell_hardening)[cell->active_cell_index()] : 1.;
+        if (keep)
+          sources.cells[cell->active_cell_index()].reinit(n);
         for (unsigned int q = 0; q < n_q; ++q)
           {
             const auto & x    = fe_values.quadrature_point(q);
@@ -227,11 +275,12 @@ namespace dieflow
             const double rate = std::sqrt(2. / 3. * (D[q] * D[q]));
             const double factor =
               cell_factor * (point_hardening != nullptr ? (*point_hardening)[cell->active_cell_index() * n_q + q] : 1.);
-            const double work = 2. * factor * material.evaluate(rate, T_old[q]).eta * (D[q] * D[q]);
+            const double work = 2. * factor * material.evaluate(rate, T_flow[q]).eta * (D[q] * D[q]);
             const double rho_c = parameters.heat_capacity.value(T_now[q]), k = parameters.conductivity.value(T_now[q]);
             const double k_slope = supg ? parameters.conductivity.slope(T_now[q]) : 0.;
             const double source = beta * work;
-            last.plastic_work += work * dx;
+            last.plastic_work += own * work * dx;
+            sources.plastic_work += work * dx;
             const double speed  = transient ? 0. : v[q].norm();
             const double Pe     = speed * h * rho_c / (2. * k);
             last.peclet         = std::max(last.peclet, Pe);
@@ -267,9 +316,13 @@ namespace dieflow
                     ((rho_c * advection[j] + mass * fe_values.shape_value(j, q)) * phi_i +
                      k * (fe_values.shape_grad(i, q) * fe_values.shape_grad(j, q)) + tau * advection[i] * strong[j]) *
                     dx;
-                cell_rhs(i) += (source * test + mass_load * phi_i) * dx;
+                cell_rhs(i) += (own * source * test + mass_load * phi_i) * dx;
+                if (keep)
+                  sources.cells[cell->active_cell_index()](i) += source * phi_i * dx;
               }
           }
+        if (earlier != nullptr)
+          cell_rhs.add(0.5, earlier->cells[cell->active_cell_index()]);
         for (const auto &face : cell->face_iterators())
           {
             if (!face->at_boundary())
@@ -342,7 +395,8 @@ namespace dieflow
         std::sort(boundary.begin(), boundary.end(), [](const auto &a, const auto &b) { return a.first[0] < b.first[0]; });
         for (const auto &[position, work, die] : friction)
           {
-            last.friction_work += work;
+            last.friction_work += own * work;
+            sources.friction_work += work;
             auto it = std::lower_bound(boundary.begin(), boundary.end(), position[0] - tolerance,
                                        [](const auto &a, const double x) { return a.first[0] < x; });
             for (; it != boundary.end() && it->first[0] <= position[0] + tolerance; ++it)
@@ -352,7 +406,9 @@ namespace dieflow
                   // The metal's share at its T there (by effusivities: the last T's).
                   dealii::Vector<double>                       value(1);
                   std::vector<dealii::types::global_dof_index> index(1, it->second);
-                  value[0] = parameters.friction_share_at(die, temperature[it->second]) * work;
+                  const double heat = parameters.friction_share_at(die, temperature[it->second]) * work;
+                  sources.nodes[it->second] += heat;
+                  value[0] = own * heat;
                   friction_heat += value[0];
                   constraints.distribute_local_to_global(value, index, rhs);
                   if (const double weight = prescribed_weight(it->second); weight != 0)
@@ -363,6 +419,22 @@ namespace dieflow
           }
       }
 
+    // The trapezoid's other half: the step's first sources.
+    if (earlier != nullptr)
+      {
+        last.plastic_work += 0.5 * earlier->plastic_work;
+        last.friction_work += 0.5 * earlier->friction_work;
+        for (const auto &[dof, heat] : earlier->nodes)
+          {
+            dealii::Vector<double>                       value(1);
+            std::vector<dealii::types::global_dof_index> index(1, dof);
+            value[0] = 0.5 * heat;
+            friction_heat += value[0];
+            constraints.distribute_local_to_global(value, index, rhs);
+            if (const double weight = prescribed_weight(dof); weight != 0)
+              prescribed_rows.push_back({index, {0.}, weight * value[0]});
+          }
+      }
     AssertThrow(matched == friction.size(),
                 dealii::ExcMessage("a contact node without a temperature node: " + std::to_string(matched) + " of " +
                                    std::to_string(friction.size()) + " found"));
@@ -384,9 +456,14 @@ namespace dieflow
                                    "did not settle in 100 solves (the last changed T by " +
                                    deck_number(pass_change.linfty_norm()) + " K)"));
     }
-    dealii::Vector<double> change = previous;
+    dealii::Vector<double> change = flow_temperature;
     change -= temperature;
     last.last_change = change.linfty_norm();
+    if (keep)
+      {
+        step_start   = previous;
+        step_sources = std::move(sources);
+      }
     make_record(flow_dofs, velocity, friction_heat, previous, dt);
     return last.last_change;
   }

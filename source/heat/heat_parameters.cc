@@ -118,6 +118,16 @@ namespace dieflow
                         "new nodes is shifted uniformly so that the heat content per volume "
                         "is what it was (the interpolation's error, reported in the log, "
                         "spread over the metal). false: interpolated only.");
+      prm.declare_entry("Step coupling",
+                        "explicit",
+                        Selection("explicit|trapezoid"),
+                        "Runs in time: the sources of the heat step from t_n to t_n+1. "
+                        "explicit: the flow of t_n's (one heat solve per step, first order "
+                        "in dt). trapezoid: the mean of t_n's and t_n+1's, the step made "
+                        "again with the flow of t_n+1 and that flow solved again at its T "
+                        "until T changes by less than the Coupling tolerance (at most "
+                        "Coupling iterations; second order in dt; a step onto a new mesh "
+                        "stays explicit).");
       prm.declare_entry("Coupling iterations",
                         "10",
                         Integer(1, 100),
@@ -380,6 +390,7 @@ namespace dieflow
               "Heat/Ambient temperatures",
               "id " + std::to_string(id) + " of Emissivities needs one");
     conservative_transfer = prm.get_bool("Conservative transfer");
+    step_coupling = prm.get("Step coupling") == "trapezoid" ? StepCoupling::trapezoid : StepCoupling::explicit_sources;
     coupling_iterations = prm.get_integer("Coupling iterations");
     coupling_tolerance  = prm.get_double("Coupling tolerance");
     require(std::isfinite(coupling_tolerance) && coupling_tolerance > 0,

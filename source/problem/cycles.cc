@@ -241,7 +241,9 @@ namespace dieflow
         result = continue_in_friction(start, parameters.nonlinear_solver.solve(*this, velocity, log), cycle_summary);
         if (parameters.free_surface.enabled() && result.converged)
           result = settle_free_surface(result, cycle_summary);
-        if ((parameters.heat.model == HeatParameters::Model::steady || parameters.steady_strain()) && result.converged)
+        if ((parameters.heat.model == HeatParameters::Model::steady || parameters.steady_strain() ||
+             (in_time && parameters.heat.step_coupling == HeatParameters::StepCoupling::trapezoid)) &&
+            result.converged)
           result = couple_fields(result, cycle_summary);
       }
     catch (const SolverFailure &failure)

@@ -32,7 +32,14 @@ namespace dieflow
   {
     const HeatParameters &  heat_parameters   = parameters.heat;
     const StrainParameters &strain_parameters = parameters.strain;
-    const bool              with_heat         = heat_parameters.model == HeatParameters::Model::steady;
+    // In time (Step coupling = trapezoid): the step from t_n made again
+    // with the flow of t_n+1, that flow solved again at its T, in turn.
+    const bool in_time = heat_parameters.model == HeatParameters::Model::transient;
+    const bool with_heat =
+      heat_parameters.model == HeatParameters::Model::steady ||
+      (in_time && heat_parameters.step_coupling == HeatParameters::StepCoupling::trapezoid && heat.can_correct());
+    const double dt =
+      in_time && cycle.cycle > 0 ? parameters.time_stepping.time(cycle.cycle) - parameters.time_stepping.time(cycle.cycle - 1) : 0.;
     const bool              with_strain       = parameters.steady_strain();
     // Without hardening the strain is read from the flow and changes nothing in it.
     const bool   hardening    = with_strain && parameters.material.hardens();
@@ -45,16 +52,21 @@ namespace dieflow
           {
             {
               dealii::TimerOutput::Scope scope(timer, "heat");
-              heat_change = heat.solve(dof_handler, velocity, friction_work(contact, velocity), 0, nullptr,
-                                       hardening ? strain.flow_hardening() : nullptr);
+              heat_change = in_time ? heat.correct_step(dof_handler, velocity, friction_work(contact, velocity), dt,
+                                                        incremental.hardening()) :
+                                      heat.solve(dof_handler, velocity, friction_work(contact, velocity), 0, nullptr,
+                                                 hardening ? strain.flow_hardening() : nullptr);
             }
             ++heat_solves;
             const HeatRecord &record = heat.record();
             // Against the temperature's range over the metal (or 1e-6 K where it is uniform).
             heat_bound   = std::max(heat_parameters.coupling_tolerance * heat.range(), 1e-6);
             heat_settled = heat_change <= heat_bound;
-            log << "  heat " << heat_solves << ": T " << std::fixed << std::setprecision(2) << record.T_min << " - "
-                << record.T_max << " K, leaving at " << record.T_exit << " K; change " << std::scientific
+            log << "  heat " << (in_time ? "step again " : "") << heat_solves << ": T " << std::fixed << std::setprecision(2)
+                << record.T_min << " - " << record.T_max << " K";
+            if (!in_time)
+              log << ", leaving at " << record.T_exit << " K";
+            log << "; change " << std::scientific
                 << std::setprecision(2) << heat_change << " K (settled below " << heat_bound << "), heat balance "
                 << record.balance_error << std::defaultfloat << std::setprecision(6) << std::endl;
           }
@@ -110,7 +122,7 @@ namespace dieflow
           result = settle_free_surface(result, cycle);
       }
     if (with_heat)
-      heat.record().solves = heat_solves, heat.record().settled = heat_settled;
+      heat.record().solves = heat_solves + (in_time ? 1 : 0), heat.record().settled = heat_settled;
     if (with_strain)
       strain.record().solves = strain_solves, strain.record().settled = strain_settled;
     return result;

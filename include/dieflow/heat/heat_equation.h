@@ -144,6 +144,30 @@ namespace dieflow
      * balance then has the heat stored in the step in place of the heat carried.
      */
 
+    /**
+     * Heat/Step coupling = trapezoid: the step from t_n made again on the
+     * moved mesh (its cells are the step's first solve's), from T_n, with
+     * the sources of the trapezoid rule: half those of the flow of t_n at
+     * T_n (kept cell by cell and node by node from the step's first solve())
+     * and half those of @p velocity, the flow of t_n+1, at the current T:
+     *   rho c (T - T_n)/dt - div(k grad T) = (S_n + S_n+1)/2,
+     * second order in dt where the sources are smooth in time (the first
+     * solve alone is forward Euler in them). The balance is the step's:
+     * the heat made is the sources' mean. Returns the largest change of T.
+     */
+    double
+    correct_step(const dealii::DoFHandler<dim> &         flow_dofs,
+                 const dealii::Vector<double> &          velocity,
+                 const std::vector<FrictionWork<dim>> &  friction,
+                 const double                            dt,
+                 const dealii::Vector<double> *          cell_hardening = nullptr);
+    /// Whether correct_step() can go on from the step's first solve (no new mesh since: the same cells).
+    bool
+    can_correct() const
+    {
+      return step_start.size() == dof_handler.n_dofs() && step_sources.cells.size() == triangulation.n_active_cells();
+    }
+
     /// T at the nodes of a new mesh @p fresh of the same domain (MeshTransfer), before it replaces this one.
     dealii::Vector<double>
     on_new_mesh(const dealii::Triangulation<dim> &fresh, const std::string &when) const;
@@ -235,6 +259,27 @@ namespace dieflow
     }
 
   private:
+    /// The sources of a step in time as assembled (not weighted): each
+    /// cell's beta sigma:D phi_i dx, each node's friction heat, and the
+    /// plastic and friction work (N mm/s).
+    struct StepSources
+    {
+      std::vector<dealii::Vector<double>>               cells;
+      std::map<dealii::types::global_dof_index, double> nodes;
+      double                                            plastic_work = 0, friction_work = 0;
+    };
+    /// solve() and correct_step(): from @p start (T_n; null: the current T)
+    /// with the sources of the flow at the current T, and half of them and
+    /// half @p earlier's if given.
+    double
+    solve_from(const dealii::DoFHandler<dim> &        flow_dofs,
+               const dealii::Vector<double> &         velocity,
+               const std::vector<FrictionWork<dim>> & friction,
+               const double                           dt,
+               const dealii::Vector<double> *         cell_hardening,
+               const std::vector<double> *            point_hardening,
+               const dealii::Vector<double> *         start,
+               const StepSources *                    earlier);
     /// The balance and the outputs of the solution just found.
     void
     make_record(const dealii::DoFHandler<dim> &flow_dofs,
@@ -259,6 +304,9 @@ namespace dieflow
     std::vector<double>                point_temperature;
     std::unique_ptr<dealii::SolutionTransfer<dim, dealii::Vector<double>>> transfer;
     HeatRecord                         last;
+    /// The last step's start T_n and its first solve's sources (correct_step()).
+    dealii::Vector<double>             step_start;
+    StepSources                        step_sources;
     /// A cell's rows of prescribed T summed: sum_j columns_j T_j - load is their reaction.
     struct PrescribedRows
     {

@@ -75,6 +75,14 @@ namespace dieflow
       /// rho c dT/dt on the mesh that moves with the metal (Problem = incremental), a step behind the flow's
       transient
     };
+    /// Runs in time: the sources of a heat step.
+    enum class StepCoupling
+    {
+      /// the flow of t_n's (forward Euler in the sources: one heat solve per step)
+      explicit_sources,
+      /// the mean of t_n's and t_n+1's, iterated with the flow of t_n+1 (HeatEquation::correct_step())
+      trapezoid
+    };
     enum class Stabilisation
     {
       /// streamline upwind Petrov-Galerkin (Brooks, Hughes 1982)
@@ -120,6 +128,7 @@ namespace dieflow
     }
     /// Runs in time: T carried to a new mesh keeps the heat content per volume (a uniform shift after the interpolation).
     bool conservative_transfer = true;
+    StepCoupling step_coupling = StepCoupling::explicit_sources;
     /// The most staggered solves (heat, then flow) per cycle, and when they have settled.
     unsigned int coupling_iterations = 10;
     double       coupling_tolerance  = 1e-3;

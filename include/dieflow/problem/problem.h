@@ -192,7 +192,7 @@ namespace dieflow
     NonlinearResult
     settle_free_surface(NonlinearResult result, CycleSummary &cycle);
 
-    /// Heat and strain, then the flow at the new T and hardening, in turn until they settle (steady). (heat.cc)
+    /// Heat and strain, then the flow at the new T and hardening, in turn until they settle (steady; in time the trapezoid's heat step). (heat.cc)
     NonlinearResult
     couple_fields(NonlinearResult result, CycleSummary &cycle);
     /// T from t_n to t_{n+1} with the flow of t_n (Heat/Model = transient), before the mesh moves.
