@@ -4,5 +4,5 @@
 int
 main()
 {
-  fuzz::run_extreme_corpus(1, 40, 34, 0);
+  fuzz::run_extreme_corpus(1, 40, 36, 0);
 }

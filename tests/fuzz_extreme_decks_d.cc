@@ -4,5 +4,5 @@
 int
 main()
 {
-  fuzz::run_extreme_corpus(3, 80, 35, 0, 40);
+  fuzz::run_extreme_corpus(3, 80, 36, 0, 40);
 }

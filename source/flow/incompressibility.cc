@@ -74,10 +74,12 @@ namespace dieflow
 
   template <int dim>
   void
-  Incompressibility<dim>::set_viscosity_scale(const double eta)
+  Incompressibility<dim>::set_viscosity_scale(const double eta, const Material *law)
   {
-    eta_m  = eta;
-    lambda = factor() * eta_m;
+    eta_m          = eta;
+    largest_lambda = process_rate > 0 ? Material::largest_penalty_factor * (law != nullptr ? *law : material).evaluate(process_rate).eta :
+                                        std::numeric_limits<double>::infinity();
+    lambda         = std::min(factor() * eta_m, largest_lambda);
   }
 
 
@@ -160,7 +162,7 @@ namespace dieflow
     else
       multiplier.reinit(0);
     if (eta_m > 0)
-      lambda = factor() * eta_m;
+      lambda = std::min(factor() * eta_m, largest_lambda);
   }
 
 

@@ -251,7 +251,10 @@ namespace dieflow
                         "factor x the cell's viscosity) to the incompressible answer. "
                         "A factor above 1e10 is solved at 1e10 (and the run warns): "
                         "beyond it round-off in the reactions (1e-16 x factor) "
-                        "exceeds the change it would make (1/factor).");
+                        "exceeds the change it would make (1/factor). For the same "
+                        "reason lambda is at most 1e10 x the law's viscosity at the "
+                        "process's strain rate (a strongly shear-thinning law's mean "
+                        "viscosity is its dead zones', up to a thousand times that).");
       prm.declare_entry("Hardening exponent n",
                         "0",
                         Double(),

@@ -182,8 +182,8 @@ namespace dieflow
     const auto   m_at     = [&](const double t) { return m_start * std::pow(m_deck / m_start, t); };
     const double eta_deck = incompressibility.viscosity_scale();
     Material     staged   = material;
-    const auto   scale_to = [&](const double eta) {
-      incompressibility.set_viscosity_scale(eta);
+    const auto   scale_to = [&](const double eta, const Material *law) {
+      incompressibility.set_viscosity_scale(eta, law);
       contact.set_scales(eta, material.penalty_factor * eta, prescribed_speed);
     };
     if (law_path && !result.converged && !result.interrupted)
@@ -192,12 +192,12 @@ namespace dieflow
           if (t == 1)
             {
               assembler.set_material(material); // the deck's law, to every bit
-              scale_to(eta_deck);
+              scale_to(eta_deck, nullptr);
               return m_deck;
             }
           staged.set_rate_sensitivity(m_at(t));
           assembler.set_material(staged);
-          scale_to(assembler.mean_viscosity(dof_handler, start));
+          scale_to(assembler.mean_viscosity(dof_handler, start), &staged);
           return staged.rate_sensitivity;
         },
         "rate sensitivity m",
@@ -205,7 +205,7 @@ namespace dieflow
         law_reached);
     assembler.set_material(material);
     if (law_path)
-      scale_to(eta_deck);
+      scale_to(eta_deck, nullptr);
     contact.freeze_bounds(false);
     const auto with_totals = [&](NonlinearResult r) {
       r.iterations    = iterations;

@@ -252,6 +252,7 @@ namespace dieflow
         law_warning = warning.str();
       }
     const double start_viscosity = material.evaluate(reference_rate).eta;
+    incompressibility.set_process_rate(reference_rate);
     velocity.reinit(dof_handler.n_dofs());
     constraints.distribute(velocity);
     if (material.is_newtonian())
@@ -288,6 +289,9 @@ namespace dieflow
     contact_states_valid = true;
     log << "  Newtonian start: eta = " << std::setprecision(4) << start_viscosity << " MPa s; "
         << incompressibility.name() << " = " << incompressibility.factor() << " x mean viscosity " << mean_viscosity
+        << (incompressibility.penalty_bounded() ? ", at most " + deck_number(Material::largest_penalty_factor) +
+                                                    " x the viscosity at the process's strain rate" :
+                                                  std::string())
         << " = " << incompressibility.penalty() << " MPa s" << std::endl;
   }
 

@@ -16,6 +16,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -130,14 +131,14 @@ namespace dieflow
     void
     save(Archive &ar) const
     {
-      ar << eta_m << augmented_direct;
+      ar << eta_m << process_rate << augmented_direct;
     }
     template <class Archive>
     void
     load(Archive &ar)
     {
       double eta = 0;
-      ar >> eta >> augmented_direct;
+      ar >> eta >> process_rate >> augmented_direct;
       set_viscosity_scale(eta);
     }
     /// lambda/eta (penalty, mixed) or r/eta (augmented Lagrangian).
@@ -158,9 +159,28 @@ namespace dieflow
     {
       return eta_m;
     }
-    /// eta_m, and lambda = factor() x eta_m.
+    /// eta_m, and lambda = factor() x eta_m, at most (Material::
+    /// largest_penalty_factor) x the viscosity of @p law (the deck's if
+    /// null; a continuation stage's) at the process's strain rate
+    /// (set_process_rate()): the mean viscosity of a strongly
+    /// shear-thinning law's first iterate is its dead zones', up to a
+    /// thousand times the viscosity where the metal deforms, and lambda over
+    /// that viscosity is what round-off multiplies (doc/stress.md).
     void
-    set_viscosity_scale(const double eta);
+    set_viscosity_scale(const double eta, const Material *law = nullptr);
+    /// The strain rate of the process (largest prescribed speed / size, or
+    /// Material/Reference strain rate) that bounds lambda.
+    void
+    set_process_rate(const double rate)
+    {
+      process_rate = rate;
+    }
+    /// Whether lambda is the bound rather than factor() x eta_m.
+    bool
+    penalty_bounded() const
+    {
+      return lambda < factor() * eta_m;
+    }
     /// The augmented Lagrangian's r = @p r in every cell.
     void
     uniform_cell_penalty(const double r);
@@ -301,6 +321,8 @@ namespace dieflow
     bool   krylov = false, augmented_direct = false;
     double eta_m        = 0;
     double lambda       = 0;
+    /// set_process_rate()'s (0: lambda unbounded), and the bound on lambda it gives.
+    double process_rate = 0, largest_lambda = std::numeric_limits<double>::infinity();
     /// q per pressure coefficient (augmented, mixed); r per cell (augmented).
     Vector<double> multiplier, cell_penalty;
     /// The mixed form's q of the accepted iterate, and the last step's dq.
