@@ -202,7 +202,7 @@ namespace fuzz
             v << std::stod(now) * (verb == "lower" ? 0.01 : 4);
             value = v.str();
           }
-        if (value.empty() || verb == "set" && !(*m)[6].matched)
+        if (value.empty() || (verb == "set" && !(*m)[6].matched))
           continue;
         const std::regex line("\n *set " + entry + " = [^\n]*");
         if (std::smatch found; std::regex_search(deck, found, line))
