@@ -384,6 +384,17 @@ namespace dieflow
     // temperature's node there (the same point: a boundary support point).
     friction_heat        = 0;
     unsigned int matched = 0;
+    // A nodal heat source (friction), through the constraints: a node on a
+    // prescribed part takes none; its share of the prescribed rows' load.
+    const auto add_node_heat = [&](const dealii::types::global_dof_index dof, const double heat) {
+      dealii::Vector<double>                       value(1);
+      std::vector<dealii::types::global_dof_index> index(1, dof);
+      value[0] = heat;
+      friction_heat += heat;
+      constraints.distribute_local_to_global(value, index, rhs);
+      if (const double weight = prescribed_weight(dof); weight != 0)
+        prescribed_rows.push_back({index, {0.}, weight * heat});
+    };
     if (!friction.empty())
       {
         std::map<dealii::types::global_dof_index, dealii::Point<dim>> support;
@@ -402,17 +413,10 @@ namespace dieflow
             for (; it != boundary.end() && it->first[0] <= position[0] + tolerance; ++it)
               if (it->first.distance(position) <= tolerance)
                 {
-                  // Through the constraints: a node on a prescribed part takes none.
                   // The metal's share at its T there (by effusivities: the last T's).
-                  dealii::Vector<double>                       value(1);
-                  std::vector<dealii::types::global_dof_index> index(1, it->second);
                   const double heat = parameters.friction_share_at(die, temperature[it->second]) * work;
                   sources.nodes[it->second] += heat;
-                  value[0] = own * heat;
-                  friction_heat += value[0];
-                  constraints.distribute_local_to_global(value, index, rhs);
-                  if (const double weight = prescribed_weight(it->second); weight != 0)
-                    prescribed_rows.push_back({index, {0.}, weight * value[0]});
+                  add_node_heat(it->second, own * heat);
                   ++matched;
                   break;
                 }
@@ -425,15 +429,7 @@ namespace dieflow
         last.plastic_work += 0.5 * earlier->plastic_work;
         last.friction_work += 0.5 * earlier->friction_work;
         for (const auto &[dof, heat] : earlier->nodes)
-          {
-            dealii::Vector<double>                       value(1);
-            std::vector<dealii::types::global_dof_index> index(1, dof);
-            value[0] = 0.5 * heat;
-            friction_heat += value[0];
-            constraints.distribute_local_to_global(value, index, rhs);
-            if (const double weight = prescribed_weight(dof); weight != 0)
-              prescribed_rows.push_back({index, {0.}, weight * value[0]});
-          }
+          add_node_heat(dof, 0.5 * heat);
       }
     AssertThrow(matched == friction.size(),
                 dealii::ExcMessage("a contact node without a temperature node: " + std::to_string(matched) + " of " +
