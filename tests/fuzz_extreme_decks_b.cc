@@ -1,4 +1,4 @@
-// Fuzz corpus, part 2 (fuzz_extreme.h): 80 extreme die2d decks from seed 2; on 2026-12-04 (AMD EPYC; a failed Newton iteration solved again at Coulomb's fixed point and by friction continuation, penalty factors above 1e10 solved at 1e10) 75 converged, and of the 5 that exit 2, 2 converged with their advice followed; the bounds two below, one for the advice (another BLAS's round-off may tip a deck at the edge; a bound of 0 holds nothing).
+// Fuzz corpus, part 2 (fuzz_extreme.h): 80 extreme die2d decks from seed 2; on 2026-12-05 (AMD EPYC; a failed Newton iteration solved again at Coulomb's fixed point and by friction continuation, penalty factors above 1e10 solved at 1e10, lambda at most 1e10 x the viscosity at the start flow's RMS strain rate) 77 converged, and of the 3 that exit 2, 1 converged with its advice followed; the bounds two below, one for the advice (another BLAS's round-off may tip a deck at the edge; a bound of 0 holds nothing).
 #include "fuzz_extreme.h"
 
 int

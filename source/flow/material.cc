@@ -253,8 +253,9 @@ namespace dieflow
                         "beyond it round-off in the reactions (1e-16 x factor) "
                         "exceeds the change it would make (1/factor). For the same "
                         "reason lambda is at most 1e10 x the law's viscosity at the "
-                        "process's strain rate (a strongly shear-thinning law's mean "
-                        "viscosity is its dead zones', up to a thousand times that).");
+                        "process's strain rate, the root mean square of the Newtonian "
+                        "start's (a strongly shear-thinning law's mean viscosity is its "
+                        "dead zones', up to a thousand times that).");
       prm.declare_entry("Hardening exponent n",
                         "0",
                         Double(),

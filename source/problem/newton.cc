@@ -12,6 +12,37 @@
 
 namespace dieflow
 {
+  namespace
+  {
+    /// The root mean square over the domain of the equivalent strain rate
+    /// sqrt(2/3 D:D) of @p velocity (plane measure, the in-plane rates: a
+    /// scale, not a quantity).
+    template <int dim>
+    double
+    process_rate_estimate(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
+    {
+      const dealii::QGauss<dim>             quadrature(dof_handler.get_fe().degree + 1);
+      dealii::FEValues<dim>                 fe_values(dof_handler.get_fe(), quadrature,
+                                      dealii::update_gradients | dealii::update_JxW_values);
+      const dealii::FEValuesExtractors::Vector velocities(0);
+      std::vector<dealii::SymmetricTensor<2, dim>> D(quadrature.size());
+      double                                       integral = 0, volume = 0;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          fe_values.reinit(cell);
+          fe_values[velocities].get_function_symmetric_gradients(velocity, D);
+          for (const unsigned int q : fe_values.quadrature_point_indices())
+            {
+              integral += 2. / 3. * (D[q] * D[q]) * fe_values.JxW(q);
+              volume += fe_values.JxW(q);
+            }
+        }
+      return volume > 0 ? std::sqrt(integral / volume) : 0.;
+    }
+  } // namespace
+
+
+
   template <int dim>
   StateChanges
   DieFlowProblem<dim>::update_state(Vector<double> &v)
@@ -283,6 +314,12 @@ namespace dieflow
     solve(update, 0);
     velocity += update;
     ++start_solves;
+    // The process's strain rate for the penalty's bound: the root mean
+    // square of the start's rate (where the metal deforms), not below the
+    // speed over the domain's size (a long land or container makes that far
+    // slower than the die's, and the bound 1e10 x the viscosity there far
+    // above the deforming metal's).
+    incompressibility.set_process_rate(std::max(process_rate_estimate(dof_handler, velocity), reference_rate));
     const double mean_viscosity = assembler.mean_viscosity(dof_handler, velocity);
     incompressibility.finish_start(start_penalty, mean_viscosity, velocity);
     contact.set_scales(mean_viscosity, material.penalty_factor * mean_viscosity, prescribed_speed);

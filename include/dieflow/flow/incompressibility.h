@@ -168,8 +168,9 @@ namespace dieflow
     /// that viscosity is what round-off multiplies (doc/stress.md).
     void
     set_viscosity_scale(const double eta, const Material *law = nullptr);
-    /// The strain rate of the process (largest prescribed speed / size, or
-    /// Material/Reference strain rate) that bounds lambda.
+    /// The strain rate of the process that bounds lambda (the root mean
+    /// square of the Newtonian start's, at least the largest prescribed
+    /// speed over the domain's size or Material/Reference strain rate).
     void
     set_process_rate(const double rate)
     {
