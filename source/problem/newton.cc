@@ -21,10 +21,11 @@ namespace dieflow
     double
     process_rate_estimate(const DoFHandler<dim> &dof_handler, const Vector<double> &velocity)
     {
-      const dealii::QGauss<dim>             quadrature(dof_handler.get_fe().degree + 1);
-      dealii::FEValues<dim>                 fe_values(dof_handler.get_fe(), quadrature,
+      const dealii::QGauss<dim>                    quadrature(dof_handler.get_fe().degree + 1);
+      dealii::FEValues<dim>                        fe_values(dof_handler.get_fe(),
+                                      quadrature,
                                       dealii::update_gradients | dealii::update_JxW_values);
-      const dealii::FEValuesExtractors::Vector velocities(0);
+      const dealii::FEValuesExtractors::Vector     velocities(0);
       std::vector<dealii::SymmetricTensor<2, dim>> D(quadrature.size());
       double                                       integral = 0, volume = 0;
       for (const auto &cell : dof_handler.active_cell_iterators())
