@@ -66,7 +66,8 @@ namespace dieflow
                       "convergence, slower, but it holds for dies with mu of order 1 "
                       "and above, where the linearised coupling makes the contact "
                       "states cycle. auto: Newton until the states cycle, then the "
-                      "fixed point (on each mesh).");
+                      "fixed point for the directions of the cycle (kept on the "
+                      "moved or refined mesh).");
     prm.declare_entry("Friction continuation",
                       "true",
                       Bool(),

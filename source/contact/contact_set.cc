@@ -179,7 +179,8 @@ namespace dieflow
                              direction.status,
                              std::vector<double>(direction.slip_direction.data(),
                                                  direction.slip_direction.data() + direction.slip_direction.size()),
-                             direction.normal_force});
+                             direction.normal_force,
+                             direction.bound_frozen});
     return records;
   }
 
@@ -192,7 +193,8 @@ namespace dieflow
     std::vector<StateRecord> records = state_records();
     serialize_each(ar, records, [&](StateRecord &r) {
       int status = static_cast<int>(r.status);
-      ar << r.position << r.id << r.normal << r.weight << r.active << status << r.slip_direction << r.normal_force;
+      ar << r.position << r.id << r.normal << r.weight << r.active << status << r.slip_direction << r.normal_force
+         << r.bound_frozen;
     });
   }
 
@@ -204,7 +206,8 @@ namespace dieflow
   {
     serialize_each(ar, restored_states, [&](StateRecord &r) {
       int status = 0;
-      ar >> r.position >> r.id >> r.normal >> r.weight >> r.active >> status >> r.slip_direction >> r.normal_force;
+      ar >> r.position >> r.id >> r.normal >> r.weight >> r.active >> status >> r.slip_direction >> r.normal_force >>
+        r.bound_frozen;
       r.status = static_cast<ContactStatus>(status);
     });
   }
@@ -244,6 +247,11 @@ namespace dieflow
           // normal force, and with none the first solve on the new mesh
           // would let every slipping node slide frictionless.
           direction.normal_force = source->normal_force / source->weight * direction.wall.weight;
+          // A Coulomb coupling that cycled here cycles again on the moved or
+          // refined mesh if Newton couples it again: die2d with its free
+          // surface at 508k and 749k dofs repeated the cycle of three and its
+          // freeze on every solve (doc/benchmarks.md).
+          direction.bound_frozen = source->bound_frozen;
         }
     };
 
@@ -292,6 +300,7 @@ namespace dieflow
     };
     nodes.clear();
     recent_signatures.clear();
+    recent_changes.clear();
     add_nodes(die_nodes, false);
     add_nodes(approaching, true);
   }
@@ -331,6 +340,7 @@ namespace dieflow
           dir.bound_frozen    = bounds_frozen_everywhere;
         }
     recent_signatures.clear();
+    recent_changes.clear();
   }
 
 

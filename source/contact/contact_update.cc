@@ -357,31 +357,44 @@ namespace dieflow
     for (const auto &node : nodes)
       for (const auto &dir : node.directions)
         signature = signature * 1000003u ^ (dir.active * 7 + static_cast<int>(dir.status) * 2 + (dir.slip_direction[0] > 0));
-    const bool cycled = changes.total() > 0 && std::find(recent_signatures.begin(), recent_signatures.end(),
-                                                         signature) != recent_signatures.end();
+    const auto seen   = std::find(recent_signatures.begin(), recent_signatures.end(), signature);
+    const bool cycled = changes.total() > 0 && seen != recent_signatures.end();
     // A cycle under Newton's coupling of the Coulomb bound to F_n: the
     // directions that changed get the bound frozen at each iteration's
     // normal force (at a die with mu of order 1, a small pull times mu
     // reverses the friction of the linearised step, and whole lands flip
     // between pulling and penetrating). The fixed point is Coulomb's
     // solution; only directions that cycle again are held or regularised.
+    // The cycle's members are all the directions changed since its state
+    // was last seen, not only this update's: with this update's alone, a
+    // cycle of three (die2d with its free surface at 508k dofs, stick/slip
+    // at the end of the contact on the land) ran once more before a second
+    // freeze (9 Newton iterations, now 6; doc/benchmarks.md), and die2d at
+    // mu = 1 on 8 cells across took 61 (now 47, linear once frozen:
+    // tests/stress_mu_1_coarse_advice).
+    std::vector<std::pair<unsigned int, unsigned int>> this_update(changed_normal);
+    this_update.insert(this_update.end(), changed_tangential.begin(), changed_tangential.end());
+    std::vector<std::pair<unsigned int, unsigned int>> changed(this_update);
+    if (cycled)
+      for (auto c = recent_changes.begin() + (seen - recent_signatures.begin()) + 1; c != recent_changes.end(); ++c)
+        changed.insert(changed.end(), c->begin(), c->end());
     if (cycled && !penalty && parameters->coulomb_coupling == ContactParameters::CoulombCoupling::automatic &&
         parameters->law == FrictionLaw::Kind::coulomb)
       {
         unsigned int frozen = 0;
-        for (const auto &changed : {changed_normal, changed_tangential})
-          for (const auto &[i, k] : changed)
-            {
-              Direction &dir = nodes[i].directions[k];
-              if (!dir.bound_frozen && !dir.regularised && parameters->friction_coefficient_of(dir.wall.id) > 0)
-                {
-                  dir.bound_frozen = true;
-                  ++frozen;
-                }
-            }
+        for (const auto &[i, k] : changed)
+          {
+            Direction &dir = nodes[i].directions[k];
+            if (!dir.bound_frozen && !dir.regularised && parameters->friction_coefficient_of(dir.wall.id) > 0)
+              {
+                dir.bound_frozen = true;
+                ++frozen;
+              }
+          }
         if (frozen > 0)
           {
             recent_signatures.clear();
+            recent_changes.clear();
             log << "    contact states cycle: " << frozen
                 << " Coulomb bound(s) frozen at each iteration's normal force (Contact/Coulomb coupling = auto)"
                 << std::endl;
@@ -408,8 +421,12 @@ namespace dieflow
             << " mm/s)" << std::endl;
       }
     recent_signatures.push_back(signature);
+    recent_changes.push_back(this_update);
     if (recent_signatures.size() > 12)
-      recent_signatures.erase(recent_signatures.begin());
+      {
+        recent_signatures.erase(recent_signatures.begin());
+        recent_changes.erase(recent_changes.begin());
+      }
     return changes;
   }
 

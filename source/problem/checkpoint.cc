@@ -9,7 +9,7 @@ namespace dieflow
 {
   namespace
   {
-    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 5";
+    constexpr const char *checkpoint_format = "dieflow incremental checkpoint 6";
   } // namespace
 
 

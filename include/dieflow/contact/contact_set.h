@@ -139,6 +139,9 @@ namespace dieflow
       ContactStatus       status = ContactStatus::separated;
       std::vector<double> slip_direction;
       double              normal_force = 0;
+      /// Direction::bound_frozen: a direction whose Coulomb coupling cycled
+      /// keeps the fixed point on the moved or refined mesh.
+      bool                bound_frozen = false;
     };
     /// The states of the current nodes (a checkpoint's; the free surface's
     /// approaching directions, which nothing inherits, left out).
@@ -371,6 +374,9 @@ namespace dieflow
     /// The largest speed of the last update (the 3D slip floor's scale).
     double                     largest_speed = 1;
     std::vector<std::size_t>   recent_signatures;
+    /// The (node, direction) pairs each of recent_signatures' updates changed:
+    /// a cycle's members are those changed since its state was last seen.
+    std::vector<std::vector<std::pair<unsigned int, unsigned int>>> recent_changes;
     /// The velocity of the last update, to tell when Newton has stopped
     /// moving the solution (3D ties on the cone, see update()).
     dealii::Vector<double>     previous_velocity;
