@@ -692,6 +692,12 @@ namespace dieflow
     const std::string stem  = "solution-" + dealii::Utilities::int_to_string(cycle, 2);
     // Degree 2: each cell subdivided, so the output shows the curved field.
     const unsigned int subdivisions = dof_handler.get_fe().degree;
+    // zlib's fastest level, not deal.II's default (its best): measured on
+    // die2d's 13-cycle run to 749k dofs (doc/benchmarks.md), the VTUs took
+    // most of the postprocessing's 23 s.
+    dealii::DataOutBase::VtkFlags flags;
+    flags.compression_level = dealii::DataOutBase::VtkFlags::best_speed;
+    data_out.set_flags(flags);
     if (vtu)
       {
         if (pieces)
