@@ -241,6 +241,11 @@ namespace dieflow
     // (the outlet: the extrudate as it leaves, with its swell), and the
     // least over the free surface (the jet's contraction, where the metal
     // comes onto the land again too).
+    // The cycle's own polyline, listed with its VTU in solution.pvd.
+    const std::string free_surface_file =
+      write_fields_now && settings.write_vtu && summary.free_surface && !summary.free_surface->lines.empty() ?
+        "free-surface-" + dealii::Utilities::int_to_string(summary.cycle, 2) + ".vtp" :
+        std::string();
     if (summary.free_surface && !summary.free_surface->lines.empty())
       {
         double least = std::numeric_limits<double>::infinity(), leaving = least;
@@ -254,7 +259,7 @@ namespace dieflow
         if (std::isfinite(leaving))
           summary.quantities.emplace_back("h_extrudate", leaving);
         summary.quantities.emplace_back("h_jet", least);
-        write_free_surface(*summary.free_surface, settings.output_directory);
+        write_free_surface(*summary.free_surface, settings.output_directory, free_surface_file);
       }
 
     if (write_fields_now)
@@ -271,6 +276,12 @@ namespace dieflow
                    settings.write_vtu,
                    settings.write_gnuplot,
                    pvd_records);
+    if (write_fields_now && settings.write_vtu)
+      {
+        if (!free_surface_file.empty())
+          pvd_records.emplace_back(record_time, free_surface_file);
+        write_pvd(pvd_records, settings.output_directory);
+      }
     if (settings.write_mesh_svg && processes::writes_output())
       {
         std::ofstream svg(settings.output_directory + "/mesh-" + dealii::Utilities::int_to_string(summary.cycle, 2) +

@@ -15,6 +15,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <fstream>
+#include <iomanip>
 
 namespace dieflow
 {
@@ -728,9 +729,6 @@ namespace dieflow
             data_out.write_vtu(out);
           }
         pvd_records.emplace_back(record_time, record);
-        AtomicFile pvd(directory + "/solution.pvd");
-        dealii::DataOutBase::write_pvd_record(pvd.stream(), pvd_records);
-        pvd.commit();
       }
     if (gnuplot_here)
       {
@@ -743,6 +741,29 @@ namespace dieflow
         data_out.write_gnuplot(out);
       }
   }
+
+  void
+  write_pvd(const std::vector<std::pair<double, std::string>> &records, const std::string &directory)
+  {
+    // deal.II's write_pvd_record gives every file part 0: ParaView would
+    // read a time's second file as another time step of the first.
+    AtomicFile    pvd(directory + "/solution.pvd");
+    std::ostream &out = pvd.stream();
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" ByteOrder=\"LittleEndian\">\n"
+        << "  <Collection>\n";
+    for (std::size_t i = 0; i < records.size(); ++i)
+      {
+        unsigned int part = 0;
+        while (part < i && records[i - part - 1].first == records[i].first)
+          ++part;
+        out << "    <DataSet timestep=\"" << std::setprecision(16) << records[i].first << "\" group=\"\" part=\"" << part
+            << "\" file=\"" << records[i].second << "\"/>\n";
+      }
+    out << "  </Collection>\n</VTKFile>\n";
+    pvd.commit();
+  }
+
+
 
   template std::map<BoundaryId, double>
   boundary_fluxes<2>(const CoordinateSystem<2> &, const DoFHandler<2> &, const Vector<double> &);

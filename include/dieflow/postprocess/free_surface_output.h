@@ -13,10 +13,11 @@ namespace dieflow
    * free-surface.dat (x y per node from where the metal leaves the part
    * before it, a blank line between stretches) and free-surface.vtp (a VTK
    * PolyData file of the same polylines, to open in ParaView with the
-   * fields' VTU).
+   * fields' VTU), and the PolyData also as @p cycle_file if it is not empty
+   * (the cycle's own, which solution.pvd lists with the cycle's VTU).
    */
   void
-  write_free_surface(const FreeSurfaceRecord &record, const std::string &directory);
+  write_free_surface(const FreeSurfaceRecord &record, const std::string &directory, const std::string &cycle_file = "");
 } // namespace dieflow
 
 #endif

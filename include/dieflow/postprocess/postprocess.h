@@ -84,8 +84,9 @@ namespace dieflow
    * cell_pressure() coefficients, and the area-weighted average of the
    * cells' values at each vertex, which filters the checkerboard mode of
    * Q1-P0), equivalent strain rate and stress, and viscosity as
-   * VTU (appended to the PVD index of the run at @p record_time: the cycle,
-   * or the time of an incremental step) and/or gnuplot; @p nodal_fields
+   * VTU (appended to @p pvd_records at @p record_time: the cycle, or the
+   * time of an incremental step; write_pvd() writes the index) and/or
+   * gnuplot; @p nodal_fields
    * per vertex, @p cell_fields per active cell (the equivalent strain).
    */
   template <int dim>
@@ -103,6 +104,15 @@ namespace dieflow
             const bool                                            vtu,
             const bool                                            gnuplot,
             std::vector<std::pair<double, std::string>> &         pvd_records);
+
+  /**
+   * The run's ParaView index @p directory/solution.pvd of @p records (time,
+   * file): the files of one time are its parts, in order (part 0 the
+   * fields' VTU, part 1 the steady free surface's polyline), so that
+   * ParaView opens them together as one block each.
+   */
+  void
+  write_pvd(const std::vector<std::pair<double, std::string>> &records, const std::string &directory);
 } // namespace dieflow
 
 #endif
