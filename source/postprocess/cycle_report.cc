@@ -236,16 +236,16 @@ namespace dieflow
           }
         summary.quantities.emplace_back("v_x(probe)", value[0]);
       }
-    // The metal's half thickness (radius: y is the distance from the
-    // symmetry line) where the free surface ends on a part that is no die
-    // (the outlet: the extrudate as it leaves, with its swell), and the
-    // least over the free surface (the jet's contraction, where the metal
-    // comes onto the land again too).
     // The cycle's own polyline, listed with its VTU in solution.pvd.
     const std::string free_surface_file =
       write_fields_now && settings.write_vtu && summary.free_surface && !summary.free_surface->lines.empty() ?
         "free-surface-" + dealii::Utilities::int_to_string(summary.cycle, 2) + ".vtp" :
         std::string();
+    // The metal's half thickness (radius: y is the distance from the
+    // symmetry line) where the free surface ends on a part that is no die
+    // (the outlet: the extrudate as it leaves, with its swell), and the
+    // least over the free surface (the jet's contraction, where the metal
+    // comes onto the land again too).
     if (summary.free_surface && !summary.free_surface->lines.empty())
       {
         double least = std::numeric_limits<double>::infinity(), leaving = least;
