@@ -43,15 +43,6 @@ namespace mpi_runs
     return text;
   }
 
-  /// The deck tests/@p name without its Output directory and its Test subsection (the check driver's).
-  inline std::string
-  test_deck(const std::string &name)
-  {
-    const std::string text = file_contents(std::string(SOURCE_DIR) + "/" + name);
-    return std::regex_replace(std::regex_replace(text, std::regex("set Output directory[^\\n]*"), ""),
-                              std::regex("subsection Test[\\s\\S]*"), "");
-  }
-
   struct Run
   {
     int         status = -1;

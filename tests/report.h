@@ -8,6 +8,7 @@
 #include <csignal>
 #include <fstream>
 #include <iostream>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -54,6 +55,15 @@ file_contents(const std::string &file)
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+/// The deck tests/@p name without its Output directory and its Test subsection (the check driver's).
+inline std::string
+test_deck(const std::string &name)
+{
+  const std::string text = file_contents(std::string(SOURCE_DIR) + "/" + name);
+  return std::regex_replace(std::regex_replace(text, std::regex("set Output directory[^\\n]*"), ""),
+                            std::regex("subsection Test[\\s\\S]*"), "");
 }
 
 /// Runs the deck @p text (written to deck.prm; results in results/, no VTU
