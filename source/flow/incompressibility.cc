@@ -92,7 +92,7 @@ namespace dieflow
   {
     const auto &       fe      = dof_handler.get_fe();
     const unsigned int n_cells = dof_handler.get_triangulation().n_active_cells();
-    linear_solver.reset();
+    linear_solver.reset(matrix);
     bool iterative = linear_solver.parameters.iterative_for(dim, fe.degree, dof_handler.n_dofs());
     if (!iterative && linear_solver.parameters.method == LinearSolverParameters::Method::automatic &&
         !linear_solver.direct_fits(dim, matrix))
@@ -251,8 +251,14 @@ namespace dieflow
       linear_solver.solve_iteratively(dim, matrix, symmetric, rhs, update);
     else
       {
-        linear_solver.factorize(matrix, symmetric);
-        linear_solver.solve(rhs, update);
+        // A reused factorisation's GMRES solves J du = -R to a tenth of
+        // the residual's round-off floor (relative to the reactions, as
+        // the residual is), no looser than 1e-6 of -R: what is left of
+        // the linear residual then stays below what Newton's own residual
+        // can resolve.
+        const double tolerance =
+          relative_residual > 0 ? std::clamp(0.1 * residual_floor / relative_residual, 1e-12, 1e-6) : 1e-6;
+        linear_solver.solve_step(matrix, symmetric, rhs, update, tolerance);
       }
   }
 

@@ -1,10 +1,15 @@
-// The linear solves of the Newton systems: CHOLMOD or UMFPACK reused per mesh, the iterative path and its direct fallback, and their memory (the entries: linear_solver_parameters.cc).
+// The linear solves of the Newton systems: CHOLMOD or UMFPACK reused per mesh, a step by GMRES on the last factorisation, the iterative path and its direct fallback, and their memory (the entries: linear_solver_parameters.cc).
 #include <dieflow/base/processes.h>
 #include <dieflow/solvers/distributed_direct_solver.h>
 #include <dieflow/solvers/linear_solver.h>
+#include <dieflow/solvers/suitesparse_factorisations.h>
 
 #include <suitesparse/cholmod.h>
 #include <suitesparse/umfpack.h>
+
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
+
 #include <malloc.h>
 #include <sys/resource.h>
 
@@ -103,228 +108,6 @@ namespace dieflow
 
 
 
-  /**
-   * The matrix in SuiteSparse's compressed-column form, with maps from
-   * deal.II's row-wise storage (the diagonal first in each row) to it, built
-   * once per sparsity pattern; and the factorisations.
-   */
-  struct LinearSolver::SuiteSparse
-  {
-    SuiteSparse()
-    {
-      cholmod_l_start(&common);
-      // A matrix that is not positive definite is reported through
-      // common.status and goes to LU; CHOLMOD's own warning on stderr would
-      // only be noise in the user's log.
-      common.print = 0;
-      umfpack_dl_defaults(control);
-    }
-
-    ~SuiteSparse()
-    {
-      free_factorisations();
-      cholmod_l_finish(&common);
-    }
-
-    void
-    free_factorisations()
-    {
-      if (numeric != nullptr)
-        umfpack_dl_free_numeric(&numeric);
-      if (symbolic != nullptr)
-        umfpack_dl_free_symbolic(&symbolic);
-      if (factor != nullptr)
-        cholmod_l_free_factor(&factor, &common);
-      numeric = symbolic = nullptr;
-      factor             = nullptr;
-      factor_counted     = false;
-    }
-
-    /// Builds the column-compressed structure (full and lower triangle) and
-    /// the maps from the matrix's storage order, if the pattern is new.
-    void
-    analyse_pattern(const dealii::SparseMatrix<double> &matrix)
-    {
-      const auto &pattern = matrix.get_sparsity_pattern();
-      if (pattern_known && n == static_cast<long>(matrix.m()) && nnz == pattern.n_nonzero_elements())
-        return;
-      free_factorisations();
-      n   = matrix.m();
-      nnz = pattern.n_nonzero_elements();
-      // The pattern is structurally symmetric (finite element couplings), so
-      // column j of A has the rows of pattern row j.
-      Ap.assign(n + 1, 0);
-      Ai.clear();
-      Ai.reserve(nnz);
-      for (long j = 0; j < n; ++j)
-        {
-          std::vector<long> rows;
-          for (auto e = pattern.begin(j); e != pattern.end(j); ++e)
-            rows.push_back(e->column());
-          std::sort(rows.begin(), rows.end());
-          Ai.insert(Ai.end(), rows.begin(), rows.end());
-          Ap[j + 1] = Ai.size();
-        }
-      Lp.assign(n + 1, 0);
-      Li.clear();
-      for (long j = 0; j < n; ++j)
-        {
-          for (long k = Ap[j]; k < Ap[j + 1]; ++k)
-            if (Ai[k] >= j)
-              Li.push_back(Ai[k]);
-          Lp[j + 1] = Li.size();
-        }
-      // Entry (i, j) in storage order -> its place in column j.
-      full_place.resize(nnz);
-      lower_place.resize(nnz);
-      std::size_t p = 0;
-      for (long i = 0; i < n; ++i)
-        for (auto e = pattern.begin(i); e != pattern.end(i); ++e, ++p)
-          {
-            const long j  = e->column();
-            full_place[p] = std::lower_bound(Ai.begin() + Ap[j], Ai.begin() + Ap[j + 1], i) - Ai.begin();
-            lower_place[p] =
-              (i >= j) ? std::lower_bound(Li.begin() + Lp[j], Li.begin() + Lp[j + 1], i) - Li.begin() : -1;
-          }
-      Ax.resize(Ai.size());
-      Lx.resize(Li.size());
-      pattern_known = true;
-    }
-
-    void
-    copy_values(const dealii::SparseMatrix<double> &matrix)
-    {
-      std::size_t p = 0;
-      for (long i = 0; i < n; ++i)
-        for (auto e = matrix.begin(i); e != matrix.end(i); ++e, ++p)
-          {
-            Ax[full_place[p]] = e->value();
-            if (lower_place[p] >= 0)
-              Lx[lower_place[p]] = e->value();
-          }
-    }
-
-    /// The pattern's lower triangle with the values, as CHOLMOD reads it.
-    cholmod_sparse
-    lower_triangle()
-    {
-      cholmod_sparse A;
-      A.nrow   = n;
-      A.ncol   = n;
-      A.nzmax  = Li.size();
-      A.p      = Lp.data();
-      A.i      = Li.data();
-      A.x      = Lx.data();
-      A.nz     = nullptr;
-      A.z      = nullptr;
-      A.stype  = -1; // symmetric, lower triangle stored
-      A.itype  = CHOLMOD_LONG;
-      A.xtype  = CHOLMOD_REAL;
-      A.dtype  = CHOLMOD_DOUBLE;
-      A.sorted = 1;
-      A.packed = 1;
-      return A;
-    }
-
-    /**
-     * CHOLMOD's analysis of the pattern (an ordering and the symbolic
-     * factor, which depend on the pattern only: kept for the Cholesky
-     * factorisations of this pattern), and from it the bytes of the numeric
-     * factor: its values (xsize) and, supernodal, their row indices
-     * (ssize); simplicial, the values and indices of L. 0 if it fails.
-     */
-    double
-    cholesky_factor_bytes()
-    {
-      if (factor == nullptr)
-        {
-          cholmod_sparse A = lower_triangle();
-          factor           = cholmod_l_analyze(&A, &common);
-          if (factor == nullptr)
-            return 0;
-          factor_bytes = factor->is_super ? 8. * (factor->xsize + factor->ssize) : 16. * common.lnz;
-        }
-      return factor_bytes;
-    }
-
-    /**
-     * The memory the next numeric factorisation will add, from CHOLMOD's
-     * analysis: 1.25 times its factor for a Cholesky factorisation (nothing
-     * once the factor holds values: it is refactorised in place), 2.5 times
-     * for an LU one (L and U, UMFPACK's work space: 1.9 to 2.2 times the
-     * Cholesky factor measured from 40,000 unknowns in 2D and 3D, more only
-     * on small meshes that fit anyway; UMFPACK's own estimate, an upper
-     * bound for any pivoting, was 7 to 30 times what it used:
-     * doc/benchmarks.md, "Direct solves and the memory left").
-     */
-    double
-    factorisation_bytes(const bool cholesky)
-    {
-      if (cholesky)
-        return (factor != nullptr && factor->xtype != CHOLMOD_PATTERN) ? 0. : 1.25 * cholesky_factor_bytes();
-      return 2.5 * cholesky_factor_bytes();
-    }
-
-    bool
-    cholesky()
-    {
-      if (!factor_counted)
-        {
-          ++analyses;
-          factor_counted = true;
-        }
-      if (cholesky_factor_bytes() == 0)
-        return false;
-      cholmod_sparse A = lower_triangle();
-      cholmod_l_factorize(&A, factor, &common);
-      out_of_memory = out_of_memory || common.status == CHOLMOD_OUT_OF_MEMORY;
-      return common.status == CHOLMOD_OK && factor->minor == static_cast<std::size_t>(n);
-    }
-
-    bool
-    lu()
-    {
-      double info[UMFPACK_INFO];
-      if (numeric != nullptr)
-        umfpack_dl_free_numeric(&numeric);
-      if (symbolic == nullptr)
-        {
-          ++analyses;
-          const int status = umfpack_dl_symbolic(n, n, Ap.data(), Ai.data(), Ax.data(), &symbolic, control, info);
-          out_of_memory    = out_of_memory || status == UMFPACK_ERROR_out_of_memory;
-          if (status != UMFPACK_OK)
-            return false;
-        }
-      const int status = umfpack_dl_numeric(Ap.data(), Ai.data(), Ax.data(), symbolic, &numeric, control, info);
-      out_of_memory    = out_of_memory || status == UMFPACK_ERROR_out_of_memory;
-      return status == UMFPACK_OK;
-    }
-
-    long                     n = 0;
-    std::size_t              nnz = 0;
-    bool                     pattern_known = false;
-    std::vector<long>        Ap, Ai, Lp, Li;
-    std::vector<double>      Ax, Lx;
-    std::vector<long>        full_place, lower_place;
-    cholmod_common           common;
-    cholmod_factor *         factor   = nullptr;
-    void *                   symbolic = nullptr;
-    void *                   numeric  = nullptr;
-    double                   control[UMFPACK_CONTROL];
-    bool                     last_was_cholesky = false;
-    /// Bytes of the Cholesky factor (cholesky_factor_bytes()), and whether
-    /// its analysis served a factorisation (counted in analyses).
-    double                   factor_bytes   = 0;
-    bool                     factor_counted = false;
-    /// Whether the last factorisation ran out of memory (its allocations
-    /// failed under the address-space cap that factorize() sets).
-    bool                     out_of_memory = false;
-    /// Orderings and symbolic factorisations computed (both kinds).
-    unsigned int             analyses = 0;
-  };
-
-
-
   LinearSolver::LinearSolver(const LinearSolverParameters &parameters)
     : parameters(parameters)
     , suitesparse(std::make_unique<SuiteSparse>())
@@ -335,10 +118,18 @@ namespace dieflow
 
 
   void
-  LinearSolver::reset()
+  LinearSolver::reset(const dealii::SparseMatrix<double> &matrix)
   {
     if (distributed)
       distributed->reset();
+    // A moved mesh's factorisation is no preconditioner for its next
+    // tangent: the penalty's stiff part moves with the geometry (die2d's
+    // free-surface moves of 1e-5 of its length: GMRES not converged in 10
+    // iterations, doc/benchmarks.md). Its ordering and symbolic
+    // factorisation serve on.
+    suitesparse->factorisation_current = false;
+    if (processes::n() == 1 && suitesparse->same_pattern(matrix.get_sparsity_pattern()))
+      return;
     suitesparse->free_factorisations();
     suitesparse->pattern_known = false;
   }
@@ -399,6 +190,7 @@ namespace dieflow
       throw SolverFailure("the sparse direct solver (UMFPACK) could not factorise the "
                           "linearised system: it is singular, or memory ran out");
     ++(s.last_was_cholesky ? counts.cholesky_factorisations : counts.lu_factorisations);
+    s.factorisation_current = true;
   }
 
 
@@ -436,6 +228,73 @@ namespace dieflow
     if (umfpack_dl_solve(transpose ? UMFPACK_At : UMFPACK_A, s.Ap.data(), s.Ai.data(), s.Ax.data(), solution.begin(), rhs.begin(),
                          s.numeric, s.control, info) < 0)
       throw SolverFailure("UMFPACK could not solve with its factorisation");
+  }
+
+
+
+  namespace
+  {
+    /// A held factorisation M as a preconditioner: vmult is x = M^-1 b.
+    template <typename Apply>
+    struct FactorisationPreconditioner
+    {
+      Apply apply;
+      void
+      vmult(dealii::Vector<double> &x, const dealii::Vector<double> &b) const
+      {
+        apply(x, b);
+      }
+    };
+  } // namespace
+
+
+
+  void
+  LinearSolver::solve_step(const dealii::SparseMatrix<double> &matrix,
+                           const bool                          symmetric,
+                           const dealii::Vector<double> &      rhs,
+                           dealii::Vector<double> &            solution,
+                           const double                        tolerance)
+  {
+    auto &             s     = *suitesparse;
+    const unsigned int limit = LinearSolverParameters::reuse_iterations;
+    // Each row of J that differs from M's (by more than a tenth of its
+    // norm: a contact node's changed state) is a rank-one change of M^-1 J
+    // and costs GMRES about one iteration; the viscosity's change, spread
+    // over every row, a few in all (die2d: 2, 7, 8 rows changed, 3, 5, 6
+    // iterations; 11 and 16 rows, 9 iterations; from about 14 rows, where
+    // contact nodes entered or left the dies, often no convergence in 40:
+    // doc/benchmarks.md). Where more rows changed than the limit leaves
+    // room for, the step is factorised without trying.
+    const bool reusable = processes::n() == 1 && parameters.reuse_threshold > 0 &&
+                          matrix.m() >= parameters.reuse_threshold && has_factorisation() && s.factorisation_current &&
+                          s.n == static_cast<long>(matrix.m()) &&
+                          s.nnz == matrix.get_sparsity_pattern().n_nonzero_elements() &&
+                          s.changed_rows(matrix) + 2 <= limit;
+    if (reusable)
+      {
+        solution.reinit(rhs.size());
+        dealii::SolverControl control(limit, tolerance * rhs.l2_norm(), false, false);
+        // The Arnoldi basis holds every iteration: GMRES never restarts.
+        dealii::SolverGMRES<dealii::Vector<double>> gmres(
+          control, dealii::SolverGMRES<dealii::Vector<double>>::AdditionalData(limit + 2, true));
+        const auto apply = [&s](dealii::Vector<double> &x, const dealii::Vector<double> &b) { s.apply_factorisation(x, b); };
+        const FactorisationPreconditioner<decltype(apply)> preconditioner{apply};
+        try
+          {
+            gmres.solve(matrix, solution, rhs, preconditioner);
+            ++counts.reused_solves;
+            counts.reuse_iterations += control.last_step();
+            return;
+          }
+        catch (const dealii::SolverControl::NoConvergence &)
+          {
+            ++counts.reuse_refactorised;
+            counts.reuse_iterations += control.last_step();
+          }
+      }
+    factorize(matrix, symmetric);
+    solve(rhs, solution);
   }
 
 

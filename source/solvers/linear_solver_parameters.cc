@@ -113,6 +113,18 @@ namespace dieflow
                       "auto: CHOLMOD's Cholesky factorisation for symmetric systems "
                       "(no slipping Coulomb friction), UMFPACK's LU otherwise. "
                       "UMFPACK: LU always.");
+    prm.declare_entry("Reuse factorisation from dofs",
+                      "100000",
+                      dealii::Patterns::Integer(0),
+                      "Direct method: from this many unknowns, a Newton step on a "
+                      "mesh that already has a factorisation (an earlier step's) is "
+                      "first solved by GMRES preconditioned by that factorisation, "
+                      "to the accuracy the step needs (a tenth of the residual's "
+                      "round-off floor, relative to the iterate's residual, at most "
+                      "1e-6); a step GMRES does not solve in 10 iterations is "
+                      "factorised. The answer is the same; large meshes that take "
+                      "several steps run faster (doc/benchmarks.md). 0: every step "
+                      "factorises.");
     prm.leave_subsection();
   }
 
@@ -126,6 +138,7 @@ namespace dieflow
                                                              Method::direct;
     direct_solver       = prm.get("Direct solver") == "UMFPACK" ? DirectSolver::umfpack : DirectSolver::automatic;
     iterative_threshold = prm.get_integer("Iterative from dofs");
+    reuse_threshold     = prm.get_integer("Reuse factorisation from dofs");
     augmentation        = get_positive(prm, "Linear solver/", "Augmentation factor");
     iterative_tolerance  = prm.get_double("Iterative tolerance");
     divergence_tolerance = get_positive(prm, "Linear solver/", "Divergence tolerance");

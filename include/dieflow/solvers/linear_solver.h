@@ -62,6 +62,12 @@ namespace dieflow
     unsigned int symbolic_analyses       = 0;
     unsigned int cholesky_factorisations = 0;
     unsigned int lu_factorisations       = 0;
+    /// Direct solver, 'Reuse factorisation from dofs': Newton steps solved
+    /// by GMRES on an earlier factorisation, their GMRES iterations, and
+    /// the attempts that did not converge and were factorised after all.
+    unsigned int reused_solves       = 0;
+    unsigned int reuse_iterations    = 0;
+    unsigned int reuse_refactorised  = 0;
 
     /// Counts one iterative solve of the mixed form: its outer and inner
     /// iterations, the decades its residual fell by (@p residual_reduction:
@@ -180,7 +186,11 @@ namespace dieflow
       umfpack
     };
     DirectSolver direct_solver = DirectSolver::automatic;
-
+    /// 'Reuse factorisation from dofs' (0: every Newton step factorises).
+    std::size_t reuse_threshold = 100000;
+    /// GMRES iterations a reused factorisation may take before the step is
+    /// factorised instead: past them the factorisation is the cheaper.
+    static constexpr unsigned int reuse_iterations = 10;
   };
 
 
@@ -194,9 +204,15 @@ namespace dieflow
     /// The deck's settings (the problem's ProblemParameters keep them).
     const LinearSolverParameters &parameters;
 
-    /// Forget the sparsity pattern's analysis (call when the mesh changes).
+    /**
+     * The mesh changed: forget the sparsity pattern's analysis and the
+     * factorisations, unless @p matrix has the very pattern analysed (the
+     * mesh only moved, as the free surface moves it): then the ordering
+     * and symbolic factorisation serve on (solve_step() takes no
+     * factorisation of the mesh before it moved as its preconditioner).
+     */
     void
-    reset();
+    reset(const dealii::SparseMatrix<double> &matrix);
 
     /// Factorises @p matrix (@p symmetric: J = J^T); throws SolverFailure if
     /// it cannot, and ResourceFailure (naming Linear solver/Method and the
@@ -212,7 +228,28 @@ namespace dieflow
     void
     solve(const dealii::Vector<double> &rhs, dealii::Vector<double> &solution, const bool transpose = false);
 
-    /// Whether a factorisation of this mesh's matrix is at hand (none after reset()).
+    /**
+     * A Newton step J du = @p rhs by the direct solver. From 'Reuse
+     * factorisation from dofs' on, where this mesh's pattern has the
+     * factorisation M of an earlier tangent on the mesh as it is (an
+     * earlier Newton step's), GMRES on J right-preconditioned
+     * by M^-1 first (so that it measures J's own residual), to
+     * |rhs - J du| <= @p tolerance |rhs|: the tangents of successive Newton
+     * steps differ by the viscosity's change, small near the solution, and
+     * by the few contact nodes that changed state, of low rank, so a few
+     * triangular solves replace a factorisation (Knoll and Keyes 2004, the
+     * lagged preconditioner of Jacobian-free Newton-Krylov). Where GMRES
+     * needs more than LinearSolverParameters::reuse_iterations, J is
+     * factorised and solved directly, and serves the next steps.
+     */
+    void
+    solve_step(const dealii::SparseMatrix<double> &matrix,
+               const bool                          symmetric,
+               const dealii::Vector<double> &      rhs,
+               dealii::Vector<double> &            solution,
+               const double                        tolerance);
+
+    /// Whether a factorisation of this mesh's pattern is at hand (none after a reset() to another).
     bool
     has_factorisation() const;
 
