@@ -11,7 +11,9 @@
 //    room for), and C's LU factorisation serves E (C with B's change) as
 //    A's Cholesky one served B; a moved mesh (reset() with the same
 //    pattern) keeps the ordering (no new symbolic analysis) but factorises
-//    its next step, and another pattern is analysed anew.
+//    its next step, and another pattern is analysed anew; has_factorisation()
+//    (the last step's factorisation, which the dual-weighted estimate's
+//    adjoint solve takes) is false after a step by GMRES and after a move.
 //  - die2d (4 cells across, degree 2, Norton-Hoff m = 0.2, the paper's
 //    friction) with reuse from 1 unknown: steps were solved by GMRES
 //    (2 of 10 measured), and the ram force, die forces and probe velocity
@@ -143,17 +145,18 @@ main()
            relative_residual(A, x, b) < 1e-12);
 
   solver.solve_step(B, false, b, x, 1e-10);
-  report("B (three rows changed): solved by GMRES on A's factorisation, no new factorisation",
+  report("B (three rows changed): solved by GMRES on A's factorisation, no new factorisation, and A's is not "
+         "offered as the last step's (has_factorisation)",
          solver.counts.reused_solves == 1 && solver.counts.reuse_refactorised == 0 &&
-           solver.counts.cholesky_factorisations + solver.counts.lu_factorisations == 1);
+           solver.counts.cholesky_factorisations + solver.counts.lu_factorisations == 1 && !solver.has_factorisation());
   report("B's own residual below the asked 1e-10", relative_residual(B, x, b) < 1e-10);
   report("B's direct solution (1e-8)", relative_difference(x, direct(B, b)) < 1e-8);
 
   // B again, asked for 1e-17 (below round-off): GMRES is tried, cannot
   // get there in its 10 iterations, and B is factorised.
   solver.solve_step(B, false, b, x, 1e-17);
-  report("B asked for 1e-17: GMRES tried and given up, B factorised, its solve exact (1e-12)",
-         solver.counts.reuse_refactorised == 1 && solver.counts.lu_factorisations == 1 &&
+  report("B asked for 1e-17: GMRES tried and given up, B factorised (the last step's), its solve exact (1e-12)",
+         solver.counts.reuse_refactorised == 1 && solver.counts.lu_factorisations == 1 && solver.has_factorisation() &&
            solver.counts.reused_solves == 1 && relative_residual(B, x, b) < 1e-12);
 
   solver.solve_step(C, false, b, x, 1e-10);
@@ -167,18 +170,24 @@ main()
            relative_difference(x, direct(E, b)) < 1e-8);
 
   const unsigned int analyses = solver.counts.symbolic_analyses;
-  // E's own matrix on the moved mesh, which C's factorisation would solve
-  // (as it did above): a moved mesh's first step factorises all the same.
+  // E factorised, then its own matrix on the moved mesh, which the old
+  // factorisation solves exactly: a moved mesh's first step factorises
+  // all the same.
+  solver.factorize(E, false);
+  const bool offered_before_move = solver.has_factorisation();
   solver.reset(E);
+  const bool offered_after_move = solver.has_factorisation();
   solver.solve_step(E, false, b, x, 1e-10);
-  report("a moved mesh (same pattern): its ordering kept, its first step factorised, no GMRES tried",
-         solver.counts.symbolic_analyses == analyses && solver.counts.lu_factorisations == 3 &&
+  report("a moved mesh (same pattern): its factorisation, offered before the move, not after; its ordering kept, "
+         "its first step factorised, no GMRES tried",
+         offered_before_move && !offered_after_move && solver.counts.symbolic_analyses == analyses &&
+           solver.counts.lu_factorisations == 4 &&
            solver.counts.reused_solves == 2 && solver.counts.reuse_refactorised == 1 &&
            relative_residual(E, x, b) < 1e-12);
   solver.reset(D);
   solver.solve_step(D, false, b, x, 1e-10);
   report("another pattern: analysed anew and factorised",
-         solver.counts.symbolic_analyses == analyses + 1 && solver.counts.lu_factorisations == 4 &&
+         solver.counts.symbolic_analyses == analyses + 1 && solver.counts.lu_factorisations == 5 &&
            solver.counts.reused_solves == 2 && relative_residual(D, x, b) < 1e-12);
 
   const RunSummary   every_step = die2d("0");

@@ -191,6 +191,7 @@ namespace dieflow
                           "linearised system: it is singular, or memory ran out");
     ++(s.last_was_cholesky ? counts.cholesky_factorisations : counts.lu_factorisations);
     s.factorisation_current = true;
+    s.last_step_reused      = false;
   }
 
 
@@ -267,7 +268,8 @@ namespace dieflow
     // doc/benchmarks.md). Where more rows changed than the limit leaves
     // room for, the step is factorised without trying.
     const bool reusable = processes::n() == 1 && parameters.reuse_threshold > 0 &&
-                          matrix.m() >= parameters.reuse_threshold && has_factorisation() && s.factorisation_current &&
+                          matrix.m() >= parameters.reuse_threshold && s.pattern_known && s.factorisation_current &&
+                          (s.last_was_cholesky ? s.factor != nullptr : s.numeric != nullptr) &&
                           s.n == static_cast<long>(matrix.m()) &&
                           s.nnz == matrix.get_sparsity_pattern().n_nonzero_elements() &&
                           s.changed_rows(matrix) + 2 <= limit;
@@ -285,6 +287,7 @@ namespace dieflow
             gmres.solve(matrix, solution, rhs, preconditioner);
             ++counts.reused_solves;
             counts.reuse_iterations += control.last_step();
+            s.last_step_reused = true;
             return;
           }
         catch (const dealii::SolverControl::NoConvergence &)
@@ -305,7 +308,8 @@ namespace dieflow
     if (processes::n() > 1)
       return distributed && distributed->has_factorisation();
     const auto &s = *suitesparse;
-    return s.pattern_known && (s.last_was_cholesky ? s.factor != nullptr : s.numeric != nullptr);
+    return s.pattern_known && s.factorisation_current && !s.last_step_reused &&
+           (s.last_was_cholesky ? s.factor != nullptr : s.numeric != nullptr);
   }
 
 

@@ -249,7 +249,10 @@ namespace dieflow
                dealii::Vector<double> &            solution,
                const double                        tolerance);
 
-    /// Whether a factorisation of this mesh's pattern is at hand (none after a reset() to another).
+    /// Whether the last Newton step's factorisation on this mesh as it is
+    /// is at hand, for a solve with that tangent (an adjoint's): none after
+    /// reset(), even to the same pattern, nor after a step solve_step()
+    /// solved by GMRES on an earlier factorisation.
     bool
     has_factorisation() const;
 

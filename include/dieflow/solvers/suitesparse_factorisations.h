@@ -299,6 +299,8 @@ namespace dieflow
     bool                     last_was_cholesky = false;
     /// Whether the factorisation held is of this mesh as it is (not moved since).
     bool                     factorisation_current = false;
+    /// Whether the last Newton step was solved by GMRES on it (LinearSolver::solve_step()).
+    bool                     last_step_reused = false;
     /// Bytes of the Cholesky factor (cholesky_factor_bytes()), and whether
     /// its analysis served a factorisation (counted in analyses).
     double                   factor_bytes   = 0;
