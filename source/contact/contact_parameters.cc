@@ -67,7 +67,8 @@ namespace dieflow
                       "and above, where the linearised coupling makes the contact "
                       "states cycle. auto: Newton until the states cycle, then the "
                       "fixed point for the directions of the cycle (kept on the "
-                      "moved or refined mesh).");
+                      "moved or refined mesh), Newton's coupling again once the "
+                      "states have settled for four iterations (once per mesh).");
     prm.declare_entry("Friction continuation",
                       "true",
                       Bool(),

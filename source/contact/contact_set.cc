@@ -301,6 +301,7 @@ namespace dieflow
     nodes.clear();
     recent_signatures.clear();
     recent_changes.clear();
+    quiet_updates = thaws = 0;
     add_nodes(die_nodes, false);
     add_nodes(approaching, true);
   }
@@ -341,6 +342,7 @@ namespace dieflow
         }
     recent_signatures.clear();
     recent_changes.clear();
+    quiet_updates = thaws = 0;
   }
 
 

@@ -478,6 +478,17 @@ namespace dieflow
       return;
     current_form     = Form::augmented_lagrangian;
     augmented_direct = true;
+    restart_multiplier(v);
+  }
+
+
+
+  template <int dim>
+  void
+  Incompressibility<dim>::restart_multiplier(const Vector<double> &v)
+  {
+    if (current_form != Form::augmented_lagrangian)
+      return;
     update_cell_penalty(v);
     // q = (lambda - r) P div v per cell: the pressure stays -lambda P div v.
     multiplier             = cell_divergence(coordinates, dof_handler, v);

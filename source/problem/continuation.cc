@@ -102,6 +102,7 @@ namespace dieflow
       // revised from the start's reactions as in the first solve: the
       // failed iterate's are those of a problem that did not settle.
       velocity = start;
+      incompressibility.restart_multiplier(start);
       contact.restart_states();
       states_from_previous_mesh = false;
     };

@@ -377,6 +377,9 @@ namespace dieflow
     /// The (node, direction) pairs each of recent_signatures' updates changed:
     /// a cycle's members are those changed since its state was last seen.
     std::vector<std::vector<std::pair<unsigned int, unsigned int>>> recent_changes;
+    /// Updates in a row without a change of state, and the frozen bounds
+    /// thawed since the last setup() or release_holds() (see update()).
+    unsigned int               quiet_updates = 0, thaws = 0;
     /// The velocity of the last update, to tell when Newton has stopped
     /// moving the solution (3D ties on the cone, see update()).
     dealii::Vector<double>     previous_velocity;

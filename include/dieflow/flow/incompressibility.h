@@ -125,6 +125,12 @@ namespace dieflow
      */
     void
     augment(const Vector<double> &v);
+    /// The augmented Lagrangian's multiplier as augment() sets it at
+    /// @p v (the penalty's pressure there), the Uzawa steps' forgotten: a
+    /// solve again from an earlier iterate (continuation) starts with the
+    /// pressure of that iterate, not of the one that failed.
+    void
+    restart_multiplier(const Vector<double> &v);
     /// Checkpoints: eta_m, and whether augment() was called (a restarted
     /// run goes on augmented where the uninterrupted one did).
     template <class Archive>
