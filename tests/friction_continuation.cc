@@ -34,6 +34,9 @@
 //   verdict); with it, that refused state is solved again and the friction
 //   path converges (friction_stages ending with 1);
 // - both keep the contact laws as A and B do (1e-6).
+// Deck E (seed 3 deck 23, m = 0.02, augmented): the continuation in m's
+// first stage converges as the same deck at m = 0.5 does by itself (the
+// stage's Uzawa steps with the stage's law).
 #include "fuzz_extreme.h"
 
 namespace
@@ -127,5 +130,18 @@ main()
   std::cout << "deck D: its refused state solved again, converges at the deck's friction: "
             << yes(d_on.status == 0 && !d_on.stages.empty() && d_on.stages.back() == 1) << std::endl;
   std::cout << "deck D: contact checks and Coulomb's law in the die profiles within 1e-6: " << yes(d_on.breach < 1e-6)
+            << std::endl;
+
+  // Deck E (seed 3 deck 23: m = 0.02, mu 3.5 and 5, 1e6 mm/s, penalty
+  // factor 1e3, so that the penalty turns augmented) exits 2, but the
+  // first stage of its continuation in m, the deck at m = 0.5, converges
+  // as that deck does by itself: the Uzawa steps' r per cell follows the
+  // stage's law (with the deck's m = 0.02 it did not: 50 iterations).
+  const fuzz::ExtremeDeck e{1, 16.9707, 3.32219, 1.76052, 12, 1, 3.51439, 5, 1e6, 1000, 0.02, false};
+  fuzz::ExtremeDeck       e_half = e;
+  e_half.rate_sensitivity        = 0.5;
+  const Run e_on = run(e, "");
+  std::cout << "deck E: its continuation in m converges at its first stage, m = 0.5, as the deck at m = 0.5 does: "
+            << yes(e_on.law_stages.size() >= 1 && e_on.law_stages.front() == 0.5 && run(e_half, "").status == 0)
             << std::endl;
 }

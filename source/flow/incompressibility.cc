@@ -77,6 +77,7 @@ namespace dieflow
   Incompressibility<dim>::set_viscosity_scale(const double eta, const Material *law)
   {
     eta_m          = eta;
+    stage_law      = law;
     largest_lambda = process_rate > 0 ? Material::largest_penalty_factor * (law != nullptr ? *law : material).evaluate(process_rate).eta :
                                         std::numeric_limits<double>::infinity();
     lambda         = std::min(factor() * eta_m, largest_lambda);
@@ -463,7 +464,8 @@ namespace dieflow
       {
         centre.reinit(cell);
         coordinates.strain_rates(centre, v, D);
-        cell_penalty[cell->active_cell_index()] = material.evaluate(std::sqrt(2. / 3. * (D[0] * D[0]))).eta;
+        cell_penalty[cell->active_cell_index()] =
+          (stage_law != nullptr ? *stage_law : material).evaluate(std::sqrt(2. / 3. * (D[0] * D[0]))).eta;
       }
     cell_penalty *= factor();
   }

@@ -171,7 +171,9 @@ namespace dieflow
     /// (set_process_rate()): the mean viscosity of a strongly
     /// shear-thinning law's first iterate is its dead zones', up to a
     /// thousand times the viscosity where the metal deforms, and lambda over
-    /// that viscosity is what round-off multiplies (doc/stress.md).
+    /// that viscosity is what round-off multiplies (doc/stress.md). The
+    /// augmented Lagrangian's r per cell follows @p law too, until the
+    /// next call (the stage's law lives as long as its stage).
     void
     set_viscosity_scale(const double eta, const Material *law = nullptr);
     /// The strain rate of the process that bounds lambda (the root mean
@@ -328,6 +330,8 @@ namespace dieflow
     bool   krylov = false, augmented_direct = false;
     double eta_m        = 0;
     double lambda       = 0;
+    /// set_viscosity_scale()'s law (null: the deck's), whose viscosity r per cell follows.
+    const Material *stage_law = nullptr;
     /// set_process_rate()'s (0: lambda unbounded), and the bound on lambda it gives.
     double process_rate = 0, largest_lambda = std::numeric_limits<double>::infinity();
     /// q per pressure coefficient (augmented, mixed); r per cell (augmented).
