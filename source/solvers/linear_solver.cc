@@ -208,20 +208,7 @@ namespace dieflow
     solution.reinit(rhs.size());
     if (s.last_was_cholesky)
       {
-        cholmod_dense b;
-        b.nrow  = s.n;
-        b.ncol  = 1;
-        b.nzmax = s.n;
-        b.d     = s.n;
-        b.x     = const_cast<double *>(rhs.begin());
-        b.z     = nullptr;
-        b.xtype = CHOLMOD_REAL;
-        b.dtype = CHOLMOD_DOUBLE;
-        cholmod_dense *x = cholmod_l_solve(CHOLMOD_A, s.factor, &b, &s.common);
-        if (x == nullptr)
-          throw SolverFailure("CHOLMOD could not solve with its factorisation");
-        std::copy(static_cast<double *>(x->x), static_cast<double *>(x->x) + s.n, solution.begin());
-        cholmod_l_free_dense(&x, &s.common);
+        s.apply_factorisation(solution, rhs);
         return;
       }
     double info[UMFPACK_INFO];
@@ -230,23 +217,6 @@ namespace dieflow
                          s.numeric, s.control, info) < 0)
       throw SolverFailure("UMFPACK could not solve with its factorisation");
   }
-
-
-
-  namespace
-  {
-    /// A held factorisation M as a preconditioner: vmult is x = M^-1 b.
-    template <typename Apply>
-    struct FactorisationPreconditioner
-    {
-      Apply apply;
-      void
-      vmult(dealii::Vector<double> &x, const dealii::Vector<double> &b) const
-      {
-        apply(x, b);
-      }
-    };
-  } // namespace
 
 
 
@@ -268,8 +238,7 @@ namespace dieflow
     // doc/benchmarks.md). Where more rows changed than the limit leaves
     // room for, the step is factorised without trying.
     const bool reusable = processes::n() == 1 && parameters.reuse_threshold > 0 &&
-                          matrix.m() >= parameters.reuse_threshold && s.pattern_known && s.factorisation_current &&
-                          (s.last_was_cholesky ? s.factor != nullptr : s.numeric != nullptr) &&
+                          matrix.m() >= parameters.reuse_threshold && s.holds_current() &&
                           s.n == static_cast<long>(matrix.m()) &&
                           s.nnz == matrix.get_sparsity_pattern().n_nonzero_elements() &&
                           s.changed_rows(matrix) + 2 <= limit;
@@ -280,8 +249,16 @@ namespace dieflow
         // The Arnoldi basis holds every iteration: GMRES never restarts.
         dealii::SolverGMRES<dealii::Vector<double>> gmres(
           control, dealii::SolverGMRES<dealii::Vector<double>>::AdditionalData(limit + 2, true));
-        const auto apply = [&s](dealii::Vector<double> &x, const dealii::Vector<double> &b) { s.apply_factorisation(x, b); };
-        const FactorisationPreconditioner<decltype(apply)> preconditioner{apply};
+        // The held factorisation M as the preconditioner: vmult is x = M^-1 b.
+        struct
+        {
+          SuiteSparse &s;
+          void
+          vmult(dealii::Vector<double> &x, const dealii::Vector<double> &b) const
+          {
+            s.apply_factorisation(x, b);
+          }
+        } const preconditioner{s};
         try
           {
             gmres.solve(matrix, solution, rhs, preconditioner);
@@ -308,8 +285,7 @@ namespace dieflow
     if (processes::n() > 1)
       return distributed && distributed->has_factorisation();
     const auto &s = *suitesparse;
-    return s.pattern_known && s.factorisation_current && !s.last_step_reused &&
-           (s.last_was_cholesky ? s.factor != nullptr : s.numeric != nullptr);
+    return s.holds_current() && !s.last_step_reused;
   }
 
 

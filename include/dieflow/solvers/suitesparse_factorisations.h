@@ -232,6 +232,13 @@ namespace dieflow
       return status == UMFPACK_OK;
     }
 
+    /// Whether a factorisation of this mesh as it is (not moved since) is held.
+    bool
+    holds_current() const
+    {
+      return pattern_known && factorisation_current && (last_was_cholesky ? factor != nullptr : numeric != nullptr);
+    }
+
     /// The rows of @p matrix (same pattern) whose values moved by more
     /// than a tenth of their norm from those factorised (in Ax).
     unsigned int
