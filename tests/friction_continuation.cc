@@ -37,6 +37,13 @@
 // Deck E (seed 3 deck 23, m = 0.02, augmented): the continuation in m's
 // first stage converges as the same deck at m = 0.5 does by itself (the
 // stage's Uzawa steps with the stage's law).
+// Deck F (seed 3 deck 22: m = 0.062, mu 2.6 on a 200 mm container and
+// 3.8 on the die, augmented): exit 2 without the continuations; with them
+// its path in m fails at stages and goes on from the last converged one
+// (velocity, contact states and the augmented Lagrangian's multiplier: a
+// failed stage's Uzawa steps leave a pressure of no solution, and from it
+// the path fails at every later stage) to the deck's m, where the state
+// keeps the contact laws as A and B do (1e-6).
 #include "fuzz_extreme.h"
 
 namespace
@@ -143,5 +150,14 @@ main()
   const Run e_on = run(e, "");
   std::cout << "deck E: its continuation in m converges at its first stage, m = 0.5, as the deck at m = 0.5 does: "
             << yes(e_on.law_stages.size() >= 1 && e_on.law_stages.front() == 0.5 && run(e_half, "").status == 0)
+            << std::endl;
+
+  const fuzz::ExtremeDeck f{1, 18.1467, 200, 12.5408, 10, 1, 2.61742, 3.77765, 0.0455712, 16584.6, 0.0617007, false};
+  std::cout << "deck F without the continuation: exit 2: " << yes(run(f, without).status == 2) << std::endl;
+  const Run f_on = run(f, "");
+  std::cout << "deck F: converges through stages in m to the deck's m: "
+            << yes(f_on.status == 0 && f_on.law_stages.size() >= 3 && f_on.law_stages.back() == f.rate_sensitivity)
+            << std::endl;
+  std::cout << "deck F: contact checks and Coulomb's law in the die profiles within 1e-6: " << yes(f_on.breach < 1e-6)
             << std::endl;
 }

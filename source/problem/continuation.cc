@@ -119,8 +119,9 @@ namespace dieflow
                            std::vector<double> &                record,
                            double &                             reached) {
       from_start();
-      Vector<double>  good_velocity;
-      ContactSet<dim> good_contact;
+      Vector<double>                            good_velocity;
+      ContactSet<dim>                           good_contact;
+      typename Incompressibility<dim>::Iterate good_pressure;
       NonlinearResult result;
       double          t = 0;
       reached           = -1;
@@ -138,6 +139,7 @@ namespace dieflow
             {
               good_velocity = velocity;
               good_contact  = contact;
+              good_pressure = incompressibility.iterate();
               reached       = t;
               increment     = std::min(2 * increment, 0.5);
             }
@@ -147,6 +149,7 @@ namespace dieflow
             {
               velocity  = good_velocity;
               contact   = good_contact;
+              incompressibility.restore(good_pressure);
               increment = 0.5 * increment;
             }
           t = std::min(1., reached + increment);

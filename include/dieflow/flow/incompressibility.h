@@ -131,6 +131,38 @@ namespace dieflow
     /// pressure of that iterate, not of the one that failed.
     void
     restart_multiplier(const Vector<double> &v);
+    /// The multiplier iteration's state at a converged iterate (form,
+    /// multipliers, r per cell, Uzawa progress): a continuation stage that
+    /// fails returns to it with the velocity and contact states of the last
+    /// converged stage, whose pressure it is (a failed stage's Uzawa steps
+    /// leave a pressure of no solution).
+    struct Iterate
+    {
+      Form           form = Form::penalty;
+      bool           augmented_direct = false;
+      Vector<double> multiplier, accepted_multiplier, cell_penalty;
+      double         eta_m                 = 0;
+      double         last_divergence_ratio = 0;
+      unsigned int   stalled_steps         = 0;
+    };
+    Iterate
+    iterate() const
+    {
+      return {current_form, augmented_direct, multiplier, accepted_multiplier, cell_penalty, eta_m,
+              last_divergence_ratio, stalled_steps};
+    }
+    void
+    restore(const Iterate &state)
+    {
+      current_form          = state.form;
+      augmented_direct      = state.augmented_direct;
+      multiplier            = state.multiplier;
+      accepted_multiplier   = state.accepted_multiplier;
+      cell_penalty          = state.cell_penalty;
+      set_viscosity_scale(state.eta_m, stage_law);
+      last_divergence_ratio = state.last_divergence_ratio;
+      stalled_steps         = state.stalled_steps;
+    }
     /// Checkpoints: eta_m, and whether augment() was called (a restarted
     /// run goes on augmented where the uninterrupted one did).
     template <class Archive>
