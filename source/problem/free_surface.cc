@@ -28,13 +28,14 @@ namespace dieflow
             record.grazing_flux  = move.grazing_flux;
             record.lines         = move.lines;
             log << "  free surface: largest move " << std::setprecision(3) << move.largest << " of its length"
+                << (move.relaxation != 1 ? " (relaxed x " + deck_number(move.relaxation) + ")" : std::string())
                 << (move.step > 0 && move.step < 1 ? " (a part " + deck_number(move.step) + " of it made)" : std::string())
                 << ", " << move.free_faces << " free faces (" << move.let_go << " let go by the dies, "
                 << move.reattached << " back on them";
             if (move.grazing_faces > 0)
               log << "; " << move.grazing_faces << " lie on a die, their flux into it " << move.grazing_flux;
             log << ")" << std::setprecision(6) << std::endl;
-            record.settled = move.largest <= parameters.free_surface.tolerance;
+            record.settled = !move.changes(parameters.free_surface.tolerance);
             if (record.settled)
               break;
             if (last)

@@ -22,8 +22,15 @@ namespace dieflow
   {
     /// The most moves of the free surface per cycle (0: the domain is kept).
     unsigned int            iterations = 0;
-    /// Settled when no node would move more than this part of the free surface's length.
+    /// Settled when no node would move more than this part of the free surface's length (and no face changes hands).
     double                  tolerance = 1e-5;
+    /// How each move follows from the march's (Free surface/Relaxation).
+    enum class Relaxation
+    {
+      aitken,
+      none
+    };
+    Relaxation relaxation = Relaxation::aitken;
     /// Traction-free ids whose faces are free surfaces; the first also
     /// takes the faces a die lets go.
     std::vector<BoundaryId> ids;
@@ -56,6 +63,8 @@ namespace dieflow
     double       largest = 0;
     /// The part of the move made (halved while it would spoil the cells; 0: none).
     double       step = 0;
+    /// The march's move times this is the move made (Aitken's relaxation).
+    double       relaxation = 1;
     /// Faces of the free surface after the move; die faces it took from the
     /// dies (the metal left them) and gave back (it came onto them again).
     unsigned int free_faces = 0, let_go = 0, reattached = 0;
@@ -65,6 +74,14 @@ namespace dieflow
     double       grazing_flux  = 0;
     /// The free stretches before the move.
     std::vector<FreeSurfaceLine> lines;
+
+    /// Whether the surface moves or changes hands: a node would move more
+    /// than @p tolerance of its length, or a face goes to or from a die.
+    bool
+    changes(const double tolerance) const
+    {
+      return largest > tolerance || let_go > 0 || reattached > 0;
+    }
   };
 
   /**
@@ -97,9 +114,10 @@ namespace dieflow
    * into the die). The straight boundary after the stretch (the outlet) is
    * stretched to the march's end. The whole move is made, halved while it
    * would spoil the cells; the interior follows by deal.II's Laplace
-   * transform (GridTools), hanging vertices onto their parents. Settled
-   * when no node would move more than the tolerance times the free
-   * surface's length (doc/incremental.md).
+   * transform (GridTools), hanging vertices onto their parents. Each move
+   * is the march's relaxed by Aitken's factor (relax()). Settled when no
+   * node would move more than the tolerance times the free surface's
+   * length and no face would go to or from a die (doc/incremental.md).
    */
   class FreeSurface
   {
@@ -127,6 +145,9 @@ namespace dieflow
       let_go.clear();
       given_back.clear();
       spines.clear();
+      last_residual.clear();
+      relaxation   = 1;
+      restart      = false;
       carry_let_go = true;
     }
 
@@ -149,11 +170,31 @@ namespace dieflow
     /// of the depth from the sum of the two walls' normals).
     Nearest
     nearest_die(const dealii::Point<2> &x) const;
+    /// Where the segment from @p out (outside the dies) to @p in (inside) meets a die.
+    dealii::Point<2>
+    onto_die(dealii::Point<2> out, dealii::Point<2> in) const;
+    /**
+     * Aitken's relaxation of the march's move r_k = placed - x (Irons and
+     * Tuck; as in partitioned fluid-structure solvers): the move made is
+     * omega_k r_k, omega_k = -omega_k-1 r_k-1.(r_k - r_k-1) / |r_k - r_k-1|^2
+     * within [0.25, 2], the secant step of a fixed point along the last
+     * change. The raw march overshoots on its second move (the first
+     * streamlines of a domain the metal does not fill come back onto
+     * the land; 0.52 damps it on die2d).
+     */
+    void
+    relax(std::map<unsigned int, dealii::Point<2>> &placed, const std::vector<dealii::Point<2>> &x);
 
     std::vector<Segment>  dies;
     /// The faces (by index) the march gave back to the dies since the last
     /// new mesh, and those of them the dies let go again.
     std::set<unsigned int> given_back, let_go;
+    /// The march's last move (by vertex) and the relaxation it was made with.
+    std::map<unsigned int, Tensor<1, 2>> last_residual;
+    double                               relaxation = 1;
+    /// The last move gave faces back to the dies: the next starts Aitken's sequence anew.
+    bool                                 restart = false;
+    static constexpr double              smallest_relaxation = 0.25, largest_relaxation = 2;
     /// The direction each node of the free surface moves in (by vertex), since the last new mesh.
     std::map<unsigned int, Tensor<1, 2>> spines;
     /// The measure of ds (1, or 2 pi r): the faces' mean velocities and the grazing flux.
