@@ -20,7 +20,7 @@ strain the wire leaves with (redundant shear included).
 sigma_d = F_x[2] / (pi R_f^2) at the last of three Kelly cycles (16 cells
 across). Not a test: a comparison with an approximate theory.
 
-    benchmarks/drawing_hardening.py [--program build/dieflow]
+    benchmarks/drawing_hardening.py [--program build/dieflow] [--held-land]
 """
 import argparse, math, time
 
@@ -47,11 +47,15 @@ def sachs(alpha_deg, mu, n, steps=20000):
     return eps1, Ym, mean, ode
 
 
-def run(program, deck, alpha, mu, n):
+# The land holding the wire instead of the deck's free surface.
+HELD_LAND = {"Traction free ids": "", "Free surface ids": "", "Iterations": "0"}
+
+
+def run(program, deck, alpha, mu, n, held_land):
     start = time.time()
-    status, summary = run_variant(program, deck, {"Die angle": "%g" % alpha, "Consistency K": "1",
-                                                  "Hardening exponent n": "%g" % n,
-                                                  "Friction coefficients": "4: %g" % mu})
+    entries = {"Die angle": "%g" % alpha, "Consistency K": "1", "Hardening exponent n": "%g" % n,
+               "Friction coefficients": "4: %g" % mu}
+    status, summary = run_variant(program, deck, dict(entries, **(HELD_LAND if held_land else {})))
     wall = time.time() - start
     c = summary["cycles"][-1]
     eps_exit = c["strain"]["eps_exit"] if "strain" in c else float("nan")
@@ -62,15 +66,17 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--program", default="build/dieflow")
     parser.add_argument("--deck", default="parameters/wiredrawing-cold.prm")
+    parser.add_argument("--held-land", action="store_true",
+                        help="the land holds the wire (the deck's free surface off)")
     args = parser.parse_args()
     print("| alpha [deg] | mu | n | Sachs, Y_m | slab ODE | dieflow | eps_exit | dieflow / (n = 0) | Y_m | Y_m at eps_exit | time [s] (n = 0) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for alpha in (6, 8, 12):
         for mu in (0., 0.05):
-            status0, base, _, wall0 = run(args.program, args.deck, alpha, mu, 0)
+            status0, base, _, wall0 = run(args.program, args.deck, alpha, mu, 0, args.held_land)
             for n in (0.26, 0.5):
                 eps1, Ym, mean, ode = sachs(alpha, mu, n)
-                status, sigma, eps_exit, wall = run(args.program, args.deck, alpha, mu, n)
+                status, sigma, eps_exit, wall = run(args.program, args.deck, alpha, mu, n, args.held_land)
                 print("| %g | %g | %g | %.4f | %.4f | %.4f%s | %.4f | %.4f | %.4f | %.4f | %.1f (%.1f) |"
                       % (alpha, mu, n, mean, ode, sigma, "" if status == 0 else " exit %d" % status, eps_exit,
                          sigma / base, Ym, mean_flow_stress(eps_exit, n), wall, wall0))

@@ -93,7 +93,8 @@ check_decks(const bool in_time, const std::string &from = "", const std::string 
       // 4.5e-7 of the pull (wiredrawing-cold, the same with hardening, whose
       // last flow solve after the strain settles stops on its update with
       // the residual at 5.9e-6 of the forces: the reactions' sum at 1.3e-6 of
-      // the pull, 2026-12-03; 3e-6 for it). The round bar in Norton-Hoff m = 0.2 with its
+      // the pull, 2026-12-03, the land then holding the wire; with its free
+      // surface since 2026-12-06 it passes at the same 3e-6). The round bar in Norton-Hoff m = 0.2 with its
       // free surface stops at the floor eps || |J| |v| || the program
       // computes for it, |R| / |F| = 5.0e-7, the reactions' sum at 3.4e-7 of
       // the ram force (2026-12-02). So does die2d-hot (Sellars-Tegart, m of

@@ -122,9 +122,6 @@ namespace dieflow
     sparsity.copy_from(dsp);
     matrix.reinit(sparsity);
     rhs.reinit(dof_handler.n_dofs());
-    // A new mesh: the relaxation starts afresh.
-    last_residual.reinit(0);
-    omega = 1;
     update_flow_hardening();
   }
 
@@ -149,6 +146,12 @@ namespace dieflow
     transfer->interpolate(strain, carried);
     strain = carried;
     transfer.reset();
+    // A new mesh: the relaxation starts afresh. (A mesh the free surface
+    // only moved keeps it: the surface's moves are part of the flow's
+    // response to the hardening, and starting afresh after each made every
+    // strain solve an unrelaxed one.)
+    last_residual.reinit(0);
+    omega = 1;
   }
 
 
