@@ -199,6 +199,13 @@ namespace
           cycle["die_normal_" + std::to_string(id)] = value;
         for (const auto &[id, value] : s.die_friction_force)
           cycle["die_friction_" + std::to_string(id)] = value;
+        // Each die's separated, sticking and slipping length (area in 3D).
+        for (const auto &[id, length] : s.contact_length)
+          {
+            cycle["separated_length_" + std::to_string(id)] = length[0];
+            cycle["stick_length_" + std::to_string(id)]     = length[1];
+            cycle["slip_length_" + std::to_string(id)]      = length[2];
+          }
         // The quantities of interest and their estimated errors:
         // F_x[1] -> q_F_x_1 and estimate_F_x_1, v_x(probe) -> q_v_x_probe ...
         const auto key = [](const std::string &prefix, const std::string &name) {
