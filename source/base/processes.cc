@@ -20,22 +20,36 @@ namespace dieflow
       unsigned int n_processes = 1;
       unsigned int this_rank   = 0;
 
-      /// Reduces @p data on the first process and broadcasts the sum: the
-      /// same bits everywhere (an all-reduce may add in a different order
-      /// on different processes).
+      /**
+       * Sums @p data over the processes, the same bits everywhere: each
+       * process reduces a P-th of the entries (MPI_Reduce_scatter), then
+       * every process gathers them (MPI_Allgatherv). Each sum is thus
+       * formed once, on one process (an all-reduce may add in a different
+       * order on different processes), and the additions and the traffic
+       * are divided: reducing everything on the first process and
+       * broadcasting it sent each process the whole array and left the
+       * first process all the additions.
+       */
       void
       sum_doubles(double *data, const std::size_t count)
       {
         // MPI counts are int: large arrays go in slices.
         constexpr std::size_t slice = std::size_t(1) << 28;
+        std::vector<int>      counts(n_processes), offsets(n_processes);
         for (std::size_t start = 0; start < count; start += slice)
           {
-            const int length = static_cast<int>(std::min(slice, count - start));
-            if (this_rank == 0)
-              MPI_Reduce(MPI_IN_PLACE, data + start, length, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
-            else
-              MPI_Reduce(data + start, nullptr, length, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
-            MPI_Bcast(data + start, length, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+            const std::size_t length = std::min(slice, count - start);
+            for (unsigned int r = 0; r < n_processes; ++r)
+              {
+                offsets[r] = static_cast<int>(length * r / n_processes);
+                counts[r]  = static_cast<int>(length * (r + 1) / n_processes) - offsets[r];
+              }
+            MPI_Reduce_scatter(MPI_IN_PLACE, data + start, counts.data(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+            // In place, the reduced part arrives at the start of the slice.
+            std::copy_backward(data + start, data + start + counts[this_rank],
+                               data + start + offsets[this_rank] + counts[this_rank]);
+            MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, data + start, counts.data(), offsets.data(), MPI_DOUBLE,
+                           MPI_COMM_WORLD);
           }
       }
 

@@ -1,6 +1,8 @@
 // The one place where the flow's cell terms and the contact's node terms join into one linear system.
 #include <dieflow/system/system_assembler.h>
 
+#include <dieflow/base/processes.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -119,21 +121,26 @@ namespace dieflow
     // The formula of residual_floor() was measured for Newtonian flow; a
     // strongly shear-thinning law puts its plateau higher (doc/benchmarks.md,
     // "Figures behind the code's rules").
-    double               free_squared = 0, reaction_squared = 0;
-    const Vector<double> penalty_rows = mixed != nullptr ? mixed->penalty_magnitude(v) : Vector<double>();
-    for (unsigned int i = 0; i < matrix.m(); ++i)
+    // On P processes each sums its block of rows (processes::owned_rows()),
+    // the two sums then summed over the processes: the same bits on every
+    // process, at a P-th of the work.
+    std::vector<double>    squares(2, 0.); // free rows, reactions
+    const Vector<double>   penalty_rows = mixed != nullptr ? mixed->penalty_magnitude(v) : Vector<double>();
+    const dealii::IndexSet rows         = processes::owned_rows(matrix.m());
+    for (const auto i : rows)
       if (update_constraints.is_constrained(i))
-        reaction_squared += raw[i] * raw[i];
+        squares[1] += raw[i] * raw[i];
       else
         {
           double row = mixed != nullptr ? penalty_rows[i] : 0.;
           for (auto entry = matrix.begin(i); entry != matrix.end(i); ++entry)
             row += std::abs(entry->value() * v[entry->column()]);
-          free_squared += row * row;
+          squares[0] += row * row;
         }
-    if (reaction_squared == 0)
+    processes::sum(squares);
+    if (squares[1] == 0)
       return 0;
-    return std::min(std::numeric_limits<double>::epsilon() * std::sqrt(free_squared / reaction_squared), 1e-4);
+    return std::min(std::numeric_limits<double>::epsilon() * std::sqrt(squares[0] / squares[1]), 1e-4);
   }
 
 

@@ -26,10 +26,10 @@ namespace dieflow
    *    summed (sum()), so every process holds the whole system again;
    *  - the linear solve: the direct solver factorises across processes
    *    (MUMPS, DistributedDirectSolver), each owning a block of rows.
-   * Every sum is reduced on the first process and broadcast from it, so
-   * every process holds the same bits and takes the same decisions (a
-   * contact state, a line-search step, the end of a cycle) without further
-   * communication. Only the first process writes files and the log.
+   * Every sum is formed once, each entry on one process (a P-th of them
+   * on each), and gathered from there, so every process holds the same
+   * bits and takes the same decisions (a contact state, a line-search
+   * step, the end of a cycle) without further communication. Only the first process writes files and the log.
    *
    * With one process (the default, no launcher) none of this runs, and MPI
    * is not initialised (the iterative solver's Trilinos initialises it on

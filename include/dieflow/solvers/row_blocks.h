@@ -17,11 +17,15 @@ namespace dieflow
   /**
    * y = M x for a sparse matrix M every process holds whole (processes.h):
    * on one process deal.II's own (threaded) product; on P processes each
-   * multiplies its block of rows (processes::owned_rows()), copied once
-   * into a distributed Trilinos matrix (Epetra's product, which imports
-   * the columns it needs), and the blocks are gathered, so every process
-   * holds the same bits of y at a P-th of the work. The matrix interface PreconditionChebyshev (which
-   * subscribes to it) and the Krylov solvers need (m(), el(), vmult()).
+   * multiplies its block of rows (processes::owned_rows()) of M as it is,
+   * with x, which every process holds whole, and the blocks are gathered,
+   * so every process holds the same bits of y at a P-th of the work. No
+   * copy of M is made: an earlier version copied each block into a
+   * distributed Trilinos matrix at every solve, whose graph set-up and
+   * Epetra's product with its column import cost more than the product
+   * saved (doc/parallel.md). The matrix interface PreconditionChebyshev
+   * (which subscribes to it) and the Krylov solvers need (m(), el(),
+   * vmult()).
    */
   class RowBlockMatrix : public dealii::Subscriptor
   {
@@ -70,11 +74,17 @@ namespace dieflow
     residual(dealii::Vector<double> &dst, const dealii::Vector<double> &x, const dealii::Vector<double> &b) const;
 
   private:
+    /// The matrix's values as one array in its pattern's order (the entry
+    /// of linear index k at [k]); null for a matrix without entries.
+    const double *
+    first_value() const;
+    /// dst's entries in this process's rows: M src (+ dst where @p add).
+    void
+    multiply_own_rows(dealii::Vector<double> &dst, const dealii::Vector<double> &src, const bool add) const;
+
     const dealii::SparseMatrix<double> *matrix = nullptr;
-    /// On P > 1: this process's rows and the columns its vectors own.
-    dealii::IndexSet                              rows, columns;
-    dealii::TrilinosWrappers::SparseMatrix        block;
-    mutable dealii::TrilinosWrappers::MPI::Vector x, y;
+    /// On P > 1: this process's rows, [first_row, end_row).
+    size_type first_row = 0, end_row = 0;
   };
 
 

@@ -1,0 +1,238 @@
+// The operations that divide the replicated systems among MPI processes, against deal.II's whole-matrix ones: RowBlockMatrix's products and processes::sum.
+//
+// The program launches itself under mpirun on 2 and 3 processes (tests/mpi_runs.h
+// sets Open MPI up for root). Each process builds the same random matrices
+// and vectors (one seed), then checks:
+//  - RowBlockMatrix's vmult, vmult_add and residual (each process multiplies
+//    its block of rows, the blocks gathered) against deal.II's product of
+//    the whole matrix, row by row within 1e-13 of sum_j |M_ij x_j| (the
+//    same sums in the same order; the bound leaves room for a compiler that
+//    contracts them into fused multiply-adds), on a square matrix, a
+//    rectangular one with empty rows (the mixed form's B and B^T have the
+//    pressure's and the velocity's shapes) and one whose first rows are
+//    empty; and the same bits on every process (processes::require_same);
+//  - processes::sum of vectors of 1, 2, 5 and 1,001 entries (fewer entries
+//    than processes included) and of a sparse matrix's values, each process
+//    adding (rank + 1) x an integer: the sums are integers, so they must be
+//    exact, and the same bits on every process.
+#include <dieflow/base/processes.h>
+#include <dieflow/solvers/row_blocks.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+  using dealii::SparseMatrix;
+  using dealii::Vector;
+  using namespace dieflow;
+
+  /// A pattern of @p m x @p n: the diagonal where square, about @p per_row
+  /// random columns per row, no entries in rows i with i % @p empty_every == 0
+  /// (0: none empty) or i < @p first_empty_rows.
+  dealii::SparsityPattern
+  random_pattern(const unsigned int m,
+                 const unsigned int n,
+                 const unsigned int per_row,
+                 const unsigned int empty_every,
+                 const unsigned int first_empty_rows,
+                 std::mt19937 &     random)
+  {
+    dealii::DynamicSparsityPattern pattern(m, n);
+    std::uniform_int_distribution<unsigned int> column(0, n - 1);
+    for (unsigned int i = 0; i < m; ++i)
+      {
+        if ((empty_every > 0 && i % empty_every == 0) || i < first_empty_rows)
+          continue;
+        if (m == n)
+          pattern.add(i, i);
+        for (unsigned int k = 0; k < per_row; ++k)
+          pattern.add(i, column(random));
+      }
+    dealii::SparsityPattern result;
+    result.copy_from(pattern);
+    return result;
+  }
+
+  void
+  fill(SparseMatrix<double> &matrix, std::mt19937 &random)
+  {
+    std::uniform_real_distribution<double> value(-1., 1.);
+    for (auto entry = matrix.begin(); entry != matrix.end(); ++entry)
+      entry->value() = value(random);
+  }
+
+  Vector<double>
+  random_vector(const unsigned int n, std::mt19937 &random)
+  {
+    std::uniform_real_distribution<double> value(-1., 1.);
+    Vector<double>                         v(n);
+    for (auto &x : v)
+      x = value(random);
+    return v;
+  }
+
+  /// Whether @p y equals @p z within 1e-13 of sum_j |M_ij x_j| in every row.
+  bool
+  agrees(const Vector<double> &y, const Vector<double> &z, const SparseMatrix<double> &M, const Vector<double> &x)
+  {
+    for (unsigned int i = 0; i < M.m(); ++i)
+      {
+        double magnitude = 0;
+        for (auto entry = M.begin(i); entry != M.end(i); ++entry)
+          magnitude += std::abs(entry->value() * x[entry->column()]);
+        if (!(std::abs(y[i] - z[i]) <= 1e-13 * magnitude))
+          return false;
+      }
+    return true;
+  }
+
+  /// Whether every process holds the same bits of @p v.
+  bool
+  same_everywhere(const Vector<double> &v)
+  {
+    try
+      {
+        processes::require_same(v, "the test");
+        return true;
+      }
+    catch (const std::logic_error &)
+      {
+        return false;
+      }
+  }
+
+  /// The checks on one matrix; one line each into @p out.
+  void
+  check_products(const std::string &name, const SparseMatrix<double> &M, std::mt19937 &random, std::ostream &out)
+  {
+    const Vector<double> x = random_vector(M.n(), random), y0 = random_vector(M.m(), random),
+                         b = random_vector(M.m(), random);
+    const RowBlockMatrix rows(M);
+
+    Vector<double> y, z(M.m());
+    rows.vmult(y, x);
+    M.vmult(z, x);
+    out << name << ": vmult as deal.II's: " << (agrees(y, z, M, x) && same_everywhere(y) ? "ok" : "FAILS") << "\n";
+
+    y = y0;
+    z = y0;
+    rows.vmult_add(y, x);
+    M.vmult_add(z, x);
+    out << name << ": vmult_add as deal.II's: " << (agrees(y, z, M, x) && same_everywhere(y) ? "ok" : "FAILS")
+        << "\n";
+
+    if (M.m() == M.n())
+      {
+        rows.residual(y, x, b);
+        M.residual(z, x, b);
+        out << name << ": residual as deal.II's: " << (agrees(y, z, M, x) && same_everywhere(y) ? "ok" : "FAILS")
+            << "\n";
+      }
+  }
+
+  /// What one process of the launched run checks (the first writes the lines).
+  int
+  launched(const std::string &file)
+  {
+    const processes::Session session;
+    std::ostringstream       out;
+    std::mt19937             random(2026);
+
+    const dealii::SparsityPattern square      = random_pattern(1001, 1001, 12, 0, 0, random);
+    const dealii::SparsityPattern rectangular = random_pattern(301, 1001, 20, 7, 0, random);
+    const dealii::SparsityPattern empty_first = random_pattern(500, 500, 8, 0, 200, random);
+    SparseMatrix<double>          A(square), B(rectangular), C(empty_first);
+    fill(A, random);
+    fill(B, random);
+    fill(C, random);
+    dealii::SparseMatrix<double> BT;
+    dealii::DynamicSparsityPattern transposed(B.n(), B.m());
+    for (auto entry = B.begin(); entry != B.end(); ++entry)
+      transposed.add(entry->column(), entry->row());
+    dealii::SparsityPattern transposed_pattern;
+    transposed_pattern.copy_from(transposed);
+    BT.reinit(transposed_pattern);
+    for (auto entry = B.begin(); entry != B.end(); ++entry)
+      BT.set(entry->column(), entry->row(), entry->value());
+
+    check_products("square 1001 x 1001", A, random, out);
+    check_products("rectangular 301 x 1001, every 7th row empty", B, random, out);
+    check_products("its transpose 1001 x 301", BT, random, out);
+    check_products("square 500 x 500, rows 0-199 empty", C, random, out);
+
+    const double rank_factor = processes::rank() + 1., total = processes::n() * (processes::n() + 1.) / 2.;
+    for (const unsigned int n : {1u, 2u, 5u, 1001u})
+      {
+        std::vector<double> v(n);
+        for (unsigned int i = 0; i < n; ++i)
+          v[i] = rank_factor * (i + 1);
+        processes::sum(v);
+        bool exact = true;
+        for (unsigned int i = 0; i < n; ++i)
+          exact = exact && v[i] == total * (i + 1);
+        out << "sum of " << n << " entries: exact: "
+            << (exact && same_everywhere(Vector<double>(v.begin(), v.end())) ? "ok" : "FAILS") << "\n";
+      }
+    {
+      SparseMatrix<double> S(square);
+      unsigned int         k = 0;
+      for (auto entry = S.begin(); entry != S.end(); ++entry)
+        entry->value() = rank_factor * (++k);
+      processes::sum(S);
+      bool           exact = true;
+      Vector<double> values(S.n_nonzero_elements());
+      k = 0;
+      for (auto entry = S.begin(); entry != S.end(); ++entry, ++k)
+        {
+          exact         = exact && entry->value() == total * (k + 1);
+          values[k]     = entry->value();
+        }
+      out << "sum of a sparse matrix's " << S.n_nonzero_elements() << " values: exact: "
+          << (exact && same_everywhere(values) ? "ok" : "FAILS") << "\n";
+    }
+    if (processes::writes_output())
+      std::ofstream(file) << out.str();
+    return 0;
+  }
+} // namespace
+
+
+
+int
+main(int argc, char **argv)
+{
+  if (argc == 3 && std::string(argv[1]) == "--launched")
+    return launched(argv[2]);
+
+  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  unsetenv("DEAL_II_NUM_THREADS");
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  for (const unsigned int processes : {2u, 3u})
+    {
+      const std::string file = "lines-" + std::to_string(processes) + ".txt";
+      std::filesystem::remove(file);
+      const std::string command = "mpirun --oversubscribe --bind-to none -np " + std::to_string(processes) + " " +
+                                  self + " --launched " + file + " > out-" + std::to_string(processes) +
+                                  ".txt 2>&1";
+      const int status = std::system(command.c_str());
+      std::cout << "# " << processes << " processes: exit " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1)
+                << std::endl;
+      std::ifstream lines(file);
+      std::cout << (lines ? std::string(std::istreambuf_iterator<char>(lines), {}) : "no lines written\n");
+    }
+  return 0;
+}
