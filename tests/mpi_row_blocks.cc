@@ -11,11 +11,18 @@
 //    rectangular one with empty rows (the mixed form's B and B^T have the
 //    pressure's and the velocity's shapes) and one whose first rows are
 //    empty; and the same bits on every process (processes::require_same);
+//  - galerkin_product (p-multigrid's coarse operator P^T D A D P, each
+//    process summing its block of fine rows) against deal.II's mmult and
+//    Tmmult of the whole matrices, entry by entry within 1e-13 of the sum of
+//    the terms' magnitudes (|P|^T D |A| D |P|: the same terms in another
+//    order), on random A (1001 x 1001), P (1001 x 240) and D (a fifth of the
+//    rows constrained), and the same bits on every process;
 //  - processes::sum of vectors of 1, 2, 5 and 1,001 entries (fewer entries
 //    than processes included) and of a sparse matrix's values, each process
 //    adding (rank + 1) x an integer: the sums are integers, so they must be
 //    exact, and the same bits on every process.
 #include <dieflow/base/processes.h>
+#include <dieflow/solvers/p_multigrid.h>
 #include <dieflow/solvers/row_blocks.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -172,6 +179,41 @@ namespace
     check_products("rectangular 301 x 1001, every 7th row empty", B, random, out);
     check_products("its transpose 1001 x 301", BT, random, out);
     check_products("square 500 x 500, rows 0-199 empty", C, random, out);
+
+    {
+      // P^T D A D P against deal.II's products of the whole matrices; the
+      // bound from the products of the magnitudes.
+      const dealii::SparsityPattern embedding_pattern = random_pattern(1001, 240, 4, 0, 0, random);
+      SparseMatrix<double>          P(embedding_pattern);
+      fill(P, random);
+      Vector<double> free(1001);
+      for (unsigned int i = 0; i < free.size(); ++i)
+        free[i] = (i % 5 == 3) ? 0. : 1.;
+      dealii::SparsityPattern product_pattern, coarse_pattern;
+      SparseMatrix<double>    product(product_pattern), expected(coarse_pattern);
+      A.mmult(product, P, free, true);
+      P.Tmmult(expected, product, free, true);
+      SparseMatrix<double> computed(expected.get_sparsity_pattern());
+      galerkin_product(A, P, free, computed);
+      SparseMatrix<double> absolute_A(square), absolute_P(embedding_pattern), absolute_product(product_pattern),
+        bound(coarse_pattern);
+      for (auto e = A.begin(), f = absolute_A.begin(); e != A.end(); ++e, ++f)
+        f->value() = std::abs(e->value());
+      for (auto e = P.begin(), f = absolute_P.begin(); e != P.end(); ++e, ++f)
+        f->value() = std::abs(e->value());
+      absolute_A.mmult(absolute_product, absolute_P, free, false);
+      absolute_P.Tmmult(bound, absolute_product, free, false);
+      bool           agree = true;
+      Vector<double> values(computed.n_nonzero_elements());
+      unsigned int   k = 0;
+      for (auto e = computed.begin(), f = expected.begin(), b = bound.begin(); e != computed.end(); ++e, ++f, ++b, ++k)
+        {
+          agree     = agree && std::abs(e->value() - f->value()) <= 1e-13 * b->value();
+          values[k] = e->value();
+        }
+      out << "P^T D A D P (" << computed.n_nonzero_elements() << " entries) as deal.II's products: "
+          << (agree && same_everywhere(values) ? "ok" : "FAILS") << "\n";
+    }
 
     const double rank_factor = processes::rank() + 1., total = processes::n() * (processes::n() + 1.) / 2.;
     for (const unsigned int n : {1u, 2u, 5u, 1001u})

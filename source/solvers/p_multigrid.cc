@@ -1,4 +1,5 @@
 // A two-level p-multigrid cycle for the Q2 velocity block: Chebyshev smoothing on Q2, one AMG V-cycle on the Q1 Galerkin operator.
+#include <dieflow/base/processes.h>
 #include <dieflow/solvers/iterative_solver.h>
 #include <dieflow/solvers/p_multigrid.h>
 
@@ -7,6 +8,8 @@
 #include <deal.II/fe/fe_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
+
+#include <algorithm>
 
 namespace dieflow
 {
@@ -57,6 +60,60 @@ namespace dieflow
 
 
 
+  void
+  galerkin_product(const dealii::SparseMatrix<double> &A,
+                   const dealii::SparseMatrix<double> &embedding,
+                   const dealii::Vector<double> &      free,
+                   dealii::SparseMatrix<double> &      coarse_matrix)
+  {
+    // A_1 = sum over the fine rows i of P(i,:)^T D_i (A D P)(i,:): each
+    // process sums its block of rows (processes::owned_rows()), row by row
+    // through a dense accumulator of A D P's row, into A_1's pattern (that
+    // of deal.II's product, built on the mesh's first set-up by deal.II's
+    // products, whole on every process), and the partial A_1 are summed
+    // over the processes. deal.II's products have no range of rows: on
+    // every process they formed the whole A_1 at every set-up, some 10 %
+    // of a 2-process run of the 3D bar (doc/parallel.md).
+    coarse_matrix = 0;
+    std::vector<double>                          row(coarse_matrix.n(), 0.);
+    std::vector<bool>                            in_row(coarse_matrix.n(), false);
+    std::vector<dealii::types::global_dof_index> columns;
+    std::vector<double>                          values;
+    for (const auto i : processes::owned_rows(A.m()))
+      {
+        if (free[i] == 0)
+          continue;
+        columns.clear();
+        for (auto a = A.begin(i); a != A.end(i); ++a)
+          if (free[a->column()] != 0)
+            for (auto p = embedding.begin(a->column()); p != embedding.end(a->column()); ++p)
+              {
+                if (!in_row[p->column()])
+                  {
+                    in_row[p->column()] = true;
+                    columns.push_back(p->column());
+                  }
+                row[p->column()] += a->value() * p->value();
+              }
+        std::sort(columns.begin(), columns.end());
+        values.resize(columns.size());
+        for (auto p = embedding.begin(i); p != embedding.end(i); ++p)
+          {
+            for (unsigned int c = 0; c < columns.size(); ++c)
+              values[c] = p->value() * row[columns[c]];
+            coarse_matrix.add(p->column(), columns.size(), columns.data(), values.data(), false, true);
+          }
+        for (const auto j : columns)
+          {
+            row[j]    = 0;
+            in_row[j] = false;
+          }
+      }
+    processes::sum(coarse_matrix);
+  }
+
+
+
   template <int dim>
   void
   PMultigrid<dim>::initialize(const RowBlockMatrix &                    A_rows,
@@ -88,8 +145,13 @@ namespace dieflow
         product.reinit(product_pattern);
         coarse_matrix.reinit(coarse_pattern);
       }
-    A.mmult(product, embedding, free, first);
-    embedding.Tmmult(coarse_matrix, product, free, first);
+    if (processes::n() == 1 || first)
+      {
+        A.mmult(product, embedding, free, first);
+        embedding.Tmmult(coarse_matrix, product, free, first);
+      }
+    else
+      galerkin_product(A, embedding, free, coarse_matrix);
     // Only the patterns are kept between set-ups: A P's values, a share of
     // the peak heap, are not needed once A_1 is formed.
     product.clear();

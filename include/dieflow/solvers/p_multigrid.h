@@ -22,6 +22,22 @@
 namespace dieflow
 {
   /**
+   * @p coarse_matrix = P^T D A D P (P: @p embedding, D = diag(@p free)),
+   * into @p coarse_matrix's pattern, which must hold that of deal.II's
+   * product (SparseMatrix::mmult, then Tmmult): each MPI process sums the
+   * terms of its block of fine rows (processes::owned_rows()), and the
+   * partial products are summed over the processes, the same bits on every
+   * process (processes.h).
+   */
+  void
+  galerkin_product(const dealii::SparseMatrix<double> &A,
+                   const dealii::SparseMatrix<double> &embedding,
+                   const dealii::Vector<double> &      free,
+                   dealii::SparseMatrix<double> &      coarse_matrix);
+
+
+
+  /**
    * A two-level p-multigrid cycle for the Q2 velocity block A (the
    * condensed Newton matrix of the mixed form):
    *   x  = S b                       (Chebyshev smoothing on Q2, from 0)
