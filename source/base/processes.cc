@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -33,8 +34,9 @@ namespace dieflow
       void
       sum_doubles(double *data, const std::size_t count)
       {
-        // MPI counts are int: large arrays go in slices.
-        constexpr std::size_t slice = std::size_t(1) << 28;
+        // MPI counts are int: large arrays go in slices (of 1 GiB: some
+        // transports fail on messages of 2^31 bytes).
+        constexpr std::size_t slice = std::size_t(1) << 27;
         std::vector<int>      counts(n_processes), offsets(n_processes);
         for (std::size_t start = 0; start < count; start += slice)
           {
@@ -46,8 +48,7 @@ namespace dieflow
               }
             MPI_Reduce_scatter(MPI_IN_PLACE, data + start, counts.data(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
             // In place, the reduced part arrives at the start of the slice.
-            std::copy_backward(data + start, data + start + counts[this_rank],
-                               data + start + offsets[this_rank] + counts[this_rank]);
+            std::memmove(data + start + offsets[this_rank], data + start, counts[this_rank] * sizeof(double));
             MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, data + start, counts.data(), offsets.data(), MPI_DOUBLE,
                            MPI_COMM_WORLD);
           }

@@ -36,7 +36,7 @@ namespace dieflow
     RowBlockMatrix() = default;
     explicit RowBlockMatrix(const dealii::SparseMatrix<double> &matrix);
 
-    /// Refers to @p matrix (kept alive by the caller; its values taken now).
+    /// Refers to @p matrix (kept alive and unchanged by the caller while this is used).
     void
     reinit(const dealii::SparseMatrix<double> &matrix);
 
