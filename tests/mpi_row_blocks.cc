@@ -19,10 +19,17 @@
 //    order), on random A (1001 x 1001), P (1001 x 240) and D (a fifth of the
 //    rows constrained; the pattern built with none, as on a mesh whose
 //    contact set changes), and the same bits on every process;
+//  - RowBlockMatrix's products and diagonal (el(i, i), what Chebyshev
+//    reads) on a square matrix summed by sum_own_rows (NaN in the rows a
+//    process does not own: a product that read them would be NaN) against
+//    deal.II's of the whole matrix;
 //  - processes::sum of vectors of 1, 2, 5 and 1,001 entries (fewer entries
 //    than processes included) and of a sparse matrix's values, each process
 //    adding (rank + 1) x an integer: the sums are integers, so they must be
-//    exact, and the same bits on every process.
+//    exact, and the same bits on every process; processes::sum_own_rows of
+//    the same kind of values, exact in each process's rows and NaN in the
+//    others, on a square matrix, one whose first rows are empty and one of
+//    2 rows.
 #include <dieflow/base/processes.h>
 #include <dieflow/solvers/p_multigrid.h>
 #include <dieflow/solvers/row_blocks.h>
@@ -123,13 +130,19 @@ namespace
       }
   }
 
-  /// The checks on one matrix; one line each into @p out.
+  /// The checks on one matrix; one line each into @p out. RowBlockMatrix
+  /// multiplies with @p summed where given (M summed by sum_own_rows(): M
+  /// in this process's rows, NaN in the others), else with M.
   void
-  check_products(const std::string &name, const SparseMatrix<double> &M, std::mt19937 &random, std::ostream &out)
+  check_products(const std::string &         name,
+                 const SparseMatrix<double> &M,
+                 std::mt19937 &              random,
+                 std::ostream &              out,
+                 const SparseMatrix<double> *summed = nullptr)
   {
     const Vector<double> x = random_vector(M.n(), random), y0 = random_vector(M.m(), random),
                          b = random_vector(M.m(), random);
-    const RowBlockMatrix rows(M);
+    const RowBlockMatrix rows(summed != nullptr ? *summed : M);
 
     Vector<double> y, z(M.m());
     rows.vmult(y, x);
@@ -151,7 +164,38 @@ namespace
         M.residual(z, x, b);
         same = same_everywhere(y);
         out << name << ": residual as deal.II's: " << (same && agrees(y, z, M, x) ? "ok" : "FAILS") << "\n";
+        // The diagonal PreconditionChebyshev reads, whole on every process.
+        Vector<double> diagonal(M.m());
+        bool           exact = true;
+        for (unsigned int i = 0; i < M.m(); ++i)
+          {
+            diagonal[i] = rows.el(i, i);
+            exact       = exact && diagonal[i] == M.el(i, i);
+          }
+        same = same_everywhere(diagonal);
+        out << name << ": el(i, i) as deal.II's: " << (same && exact ? "ok" : "FAILS") << "\n";
       }
+  }
+
+  /// Whether @p verdict holds on every process (a collective).
+  bool
+  everywhere(const bool verdict)
+  {
+    std::vector<double> failures{verdict ? 0. : 1.};
+    processes::sum(failures);
+    return failures[0] == 0;
+  }
+
+  /// M as sum_own_rows() leaves it: process 0 holds M, the others zero,
+  /// summed (adding zeros is exact: M's values in this process's rows).
+  SparseMatrix<double>
+  summed_own_rows(const SparseMatrix<double> &M)
+  {
+    SparseMatrix<double> summed(M.get_sparsity_pattern());
+    if (processes::rank() == 0)
+      summed.copy_from(M);
+    processes::sum_own_rows(summed);
+    return summed;
   }
 
   /// What one process of the launched run checks (the first writes the lines).
@@ -187,6 +231,10 @@ namespace
     check_products("its transpose 1001 x 301", BT, random, out);
     check_products("500 x 499, rows 0-199 empty", C, random, out);
     check_products("2 x 1001", D, random, out);
+    {
+      const SparseMatrix<double> summed = summed_own_rows(A);
+      check_products("square 1001 x 1001 summed by sum_own_rows", A, random, out, &summed);
+    }
 
     {
       // P^T D A D P against deal.II's products of the whole matrices; the
@@ -263,6 +311,27 @@ namespace
       out << "sum of a sparse matrix's " << S.n_nonzero_elements() << " values: exact: "
           << (same && exact ? "ok" : "FAILS") << "\n";
     }
+    // sum_own_rows: the exact sums in this process's rows, NaN in the
+    // others; a square matrix, one whose first 200 rows are empty and one
+    // of 2 rows (on 3 processes the first owns none).
+    for (const auto &[name, pattern] : {std::pair{"1001 x 1001", &square},
+                                        std::pair{"500 x 499, rows 0-199 empty", &empty_first},
+                                        std::pair{"2 x 1001", &two_rows}})
+      {
+        SparseMatrix<double> S(*pattern);
+        unsigned int         k = 0;
+        for (auto entry = S.begin(); entry != S.end(); ++entry)
+          entry->value() = rank_factor * (++k);
+        processes::sum_own_rows(S);
+        const dealii::IndexSet own   = processes::owned_rows(S.m());
+        bool                   exact = true;
+        k                            = 0;
+        for (auto entry = S.begin(); entry != S.end(); ++entry, ++k)
+          exact = exact && (own.is_element(entry->row()) ? entry->value() == total * (k + 1) : std::isnan(entry->value()));
+        out << "sum_own_rows of a " << name << " matrix's " << S.n_nonzero_elements()
+            << " values: exact in each process's rows, NaN in the others: " << (everywhere(exact) ? "ok" : "FAILS")
+            << "\n";
+      }
     if (processes::writes_output())
       std::ofstream(file) << out.str();
     return 0;

@@ -224,7 +224,8 @@ namespace dieflow
                                SparseMatrix<double> *           matrix,
                                Vector<double> &                 rhs,
                                Vector<double> &                 raw_residual,
-                               const RowTransforms *            transforms) const
+                               const RowTransforms *            transforms,
+                               const MatrixRows                 rows) const
   {
     Assert(terms.penalty > 0, dealii::ExcMessage("The penalty has not been set."));
     MixedPenalty<dim> *const    mixed          = (terms.mixed != nullptr && matrix != nullptr) ? terms.mixed : nullptr;
@@ -401,9 +402,11 @@ namespace dieflow
                             copier,
                             ScratchData<dim>(fe, coordinates),
                             CopyData());
-    // Each process assembled its own cells: the sums are the whole system,
-    // on every process (processes.h).
-    if (matrix != nullptr)
+    // Each process assembled its own cells: the sums are the whole system
+    // (the matrix only in each process's own rows where @p rows says so).
+    if (matrix != nullptr && rows == MatrixRows::own)
+      processes::sum_own_rows(*matrix);
+    else if (matrix != nullptr)
       processes::sum(*matrix);
     if (mixed != nullptr)
       mixed->sum_over_processes();
@@ -423,9 +426,10 @@ namespace dieflow
                                       SparseMatrix<double> &           matrix,
                                       Vector<double> &                 rhs,
                                       Vector<double> &                 raw_residual,
-                                      const RowTransforms *            transforms) const
+                                      const RowTransforms *            transforms,
+                                      const MatrixRows                 rows) const
   {
-    assemble(dof_handler, velocity, terms, update_constraints, linearization, &matrix, rhs, raw_residual, transforms);
+    assemble(dof_handler, velocity, terms, update_constraints, linearization, &matrix, rhs, raw_residual, transforms, rows);
   }
 
 
@@ -440,7 +444,8 @@ namespace dieflow
                                         Vector<double> &                 raw_residual,
                                         const RowTransforms *            transforms) const
   {
-    assemble(dof_handler, velocity, terms, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms);
+    assemble(dof_handler, velocity, terms, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms,
+             MatrixRows::all);
   }
 
 

@@ -71,7 +71,7 @@ namespace dieflow
     , fe(dealii::FE_Q<dim>(parameters.velocity_degree), dim)
     , dof_handler(triangulation)
     , incompressibility(parameters.material, parameters.coordinates, dof_handler, linear_solver, log)
-    , system(dof_handler, update_constraints, assembler, contact)
+    , system(dof_handler, update_constraints, assembler, contact, MatrixRows::own)
     , incremental(parameters.time_stepping, parameters.coordinates, parameters.material)
     , heat(parameters.heat, parameters.material, parameters.coordinates, triangulation, parameters.velocity_degree)
     , strain(parameters.strain, parameters.material, parameters.coordinates, triangulation, parameters.velocity_degree)

@@ -150,7 +150,9 @@ namespace dieflow
         A.mmult(product, embedding, free, first);
         embedding.Tmmult(coarse_matrix, product, free, first);
       }
-    else
+    // On P > 1 deal.II's products only build the patterns: A holds sums in
+    // each process's own rows alone (processes::sum_own_rows()).
+    if (processes::n() > 1)
       galerkin_product(A, embedding, free, coarse_matrix);
     // Only the patterns are kept between set-ups: A P's values, a share of
     // the peak heap, are not needed once A_1 is formed.

@@ -35,27 +35,20 @@ namespace dieflow
   RowBlockMatrix::reinit(const dealii::SparseMatrix<double> &m)
   {
     matrix = &m;
+    diagonal.reinit(0);
     if (processes::n() == 1)
       return;
     const dealii::IndexSet rows = processes::owned_rows(m.m());
     first_row                   = first_index(rows);
     end_row                     = first_row + rows.n_elements();
-  }
-
-
-
-  const double *
-  RowBlockMatrix::first_value() const
-  {
-    // Any entry's address, less its linear index in the pattern: the
-    // matrix's iterators, which look up the value and the column at every
-    // entry, made the product 1.8 times slower per entry than deal.II's
-    // own loop (perf, the 3D bar quarter at 8 x 4 cells on 2 processes).
-    const dealii::SparsityPattern &pattern = matrix->get_sparsity_pattern();
-    for (size_type i = 0; i < matrix->m(); ++i)
-      if (pattern.row_length(i) > 0)
-        return &(*matrix)(i, pattern.column_number(i, 0)) - pattern.begin(i)->global_index();
-    return nullptr;
+    values                      = processes::matrix_values(m);
+    if (m.m() == m.n())
+      {
+        diagonal.reinit(m.m());
+        for (size_type i = first_row; i < end_row; ++i)
+          diagonal[i] = m.el(i, i);
+        processes::gather(diagonal);
+      }
   }
 
 
@@ -66,9 +59,8 @@ namespace dieflow
     if (first_row == end_row)
       return;
     const dealii::SparsityPattern &pattern = matrix->get_sparsity_pattern();
-    const double *const            values  = first_value();
-    const double *const x      = src.begin();
-    double *const       y      = dst.begin();
+    const double *const            x       = src.begin();
+    double *const                  y       = dst.begin();
     // The rows in chunks among this process's threads, as deal.II's own
     // product divides them.
     dealii::parallel::apply_to_subranges(

@@ -13,11 +13,13 @@ namespace dieflow
   SystemAssembler<dim>::SystemAssembler(const DoFHandler<dim> &          dof_handler,
                                         const AffineConstraints<double> &update_constraints,
                                         const FlowAssembler<dim> &       flow,
-                                        const ContactSet<dim> &          contact)
+                                        const ContactSet<dim> &          contact,
+                                        const MatrixRows                 matrix_rows)
     : dof_handler(dof_handler)
     , update_constraints(update_constraints)
     , flow(flow)
     , contact(contact)
+    , matrix_rows(matrix_rows)
   {}
 
 
@@ -74,7 +76,7 @@ namespace dieflow
       }
     if (matrix != nullptr)
       flow_assembler.assemble_system(dof_handler, v, terms, update_constraints, linearization, *matrix, minus_residual, raw,
-                                     &transforms);
+                                     &transforms, matrix_rows);
     else
       flow_assembler.assemble_residual(dof_handler, v, terms, update_constraints, minus_residual, raw, &transforms);
 

@@ -23,13 +23,19 @@ namespace dieflow
    * is divided is the expensive part of a Newton iteration:
    *  - the flow's cell terms (FlowAssembler): each process assembles the
    *    cells of its METIS part (partition()), and the partial systems are
-   *    summed (sum()), so every process holds the whole system again;
+   *    summed: the right-hand side whole on every process (sum()), the
+   *    matrix only in each process's own rows (sum_own_rows()), the only
+   *    ones its readers (the products, the direct and iterative solvers'
+   *    copies, the round-off bound) read;
    *  - the linear solve: the direct solver factorises across processes
-   *    (MUMPS, DistributedDirectSolver), each owning a block of rows.
+   *    (MUMPS, DistributedDirectSolver), each owning a block of rows; the
+   *    iterative solvers multiply by blocks of rows (RowBlockMatrix, ML
+   *    across processes), the results gathered.
    * Every sum is formed once, each entry on one process (a P-th of them
-   * on each), and gathered from there, so every process holds the same
-   * bits and takes the same decisions (a contact state, a line-search
-   * step, the end of a cycle) without further communication. Only the first process writes files and the log.
+   * on each), and gathered from there (but the matrix's), so every process
+   * holds the same bits and takes the same decisions (a contact state, a
+   * line-search step, the end of a cycle) without further communication.
+   * Only the first process writes files and the log.
    *
    * With one process (the default, no launcher) none of this runs, and MPI
    * is not initialised (the iterative solver's Trilinos initialises it on
@@ -91,6 +97,21 @@ namespace dieflow
     sum(dealii::SparseMatrix<double> &matrix);
     void
     sum(std::vector<double> &v);
+
+    /**
+     * Sums @p matrix over the processes in this process's rows
+     * (owned_rows(matrix.m())), each row's sum formed on its owner alone;
+     * the other rows are set to NaN, so that a reader of rows not its own
+     * fails at once instead of computing with partial sums. Half the
+     * traffic of sum(), and no process receives the whole matrix.
+     */
+    void
+    sum_own_rows(dealii::SparseMatrix<double> &matrix);
+
+    /// The values of @p matrix as one array in its pattern's order (the
+    /// entry of linear index k at [k]); null for a matrix without entries.
+    const double *
+    matrix_values(const dealii::SparseMatrix<double> &matrix);
 
     /**
      * Throws std::logic_error naming @p where unless every process holds

@@ -75,6 +75,20 @@ namespace dieflow
 
 
   /**
+   * Which rows of an assembled matrix hold the whole sums on P > 1
+   * processes (processes.h): every row on every process, or each process's
+   * own rows only (processes::sum_own_rows()): the Newton system, which
+   * only the linear solvers read, and they read their own rows.
+   */
+  enum class MatrixRows
+  {
+    all,
+    own
+  };
+
+
+
+  /**
    * The cell terms of the penalised velocity problem (7)-(9) of the paper:
    *   R(v; w) = int 2 eta(epsdot(v)) D(v):D(w) dx        (Gauss, degree + 1 points)
    *           + int lambda (P div v)(P div w) dx
@@ -197,7 +211,8 @@ namespace dieflow
                     SparseMatrix<double> &            matrix,
                     Vector<double> &                  rhs,
                     Vector<double> &                  raw_residual,
-                    const RowTransforms *             transforms = nullptr) const;
+                    const RowTransforms *             transforms = nullptr,
+                    const MatrixRows                  rows       = MatrixRows::all) const;
 
     /// As assemble_system() without the matrix: rhs = -R(v) condensed, and the raw R(v).
     void
@@ -223,7 +238,8 @@ namespace dieflow
              SparseMatrix<double> *            matrix,
              Vector<double> &                  rhs,
              Vector<double> &                  raw_residual,
-             const RowTransforms *             transforms) const;
+             const RowTransforms *             transforms,
+             const MatrixRows                  rows) const;
 
     unsigned int
     n_dual_points(const DoFHandler<dim> &dof_handler) const;

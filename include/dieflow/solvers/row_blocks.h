@@ -25,7 +25,8 @@ namespace dieflow
    * Epetra's product with its column import cost more than the product
    * saved (doc/parallel.md). The matrix interface PreconditionChebyshev
    * (which subscribes to it) and the Krylov solvers need (m(), el(),
-   * vmult()).
+   * vmult()). Only this process's rows of M are read: the system matrix
+   * holds sums in no others (processes::sum_own_rows()).
    */
   class RowBlockMatrix : public dealii::Subscriptor
   {
@@ -57,10 +58,13 @@ namespace dieflow
     {
       return matrix->n();
     }
+    /// M_ij; on P > 1 the diagonal only (what PreconditionChebyshev
+    /// reads), gathered by reinit() from each process's rows.
     double
     el(const size_type i, const size_type j) const
     {
-      return matrix->el(i, j);
+      Assert(diagonal.size() == 0 || i == j, dealii::ExcMessage("on P > 1 only the diagonal"));
+      return diagonal.size() > 0 ? diagonal[i] : matrix->el(i, j);
     }
 
     /// dst = M src.
@@ -74,17 +78,17 @@ namespace dieflow
     residual(dealii::Vector<double> &dst, const dealii::Vector<double> &x, const dealii::Vector<double> &b) const;
 
   private:
-    /// The matrix's values as one array in its pattern's order (the entry
-    /// of linear index k at [k]); null for a matrix without entries.
-    const double *
-    first_value() const;
     /// dst's entries in this process's rows: M src (+ dst where @p add).
     void
     multiply_own_rows(dealii::Vector<double> &dst, const dealii::Vector<double> &src, const bool add) const;
 
     const dealii::SparseMatrix<double> *matrix = nullptr;
-    /// On P > 1: this process's rows, [first_row, end_row).
-    size_type first_row = 0, end_row = 0;
+    /// On P > 1: this process's rows, [first_row, end_row); the matrix's
+    /// values as one array (processes::matrix_values()); a square matrix's
+    /// diagonal, whole.
+    size_type              first_row = 0, end_row = 0;
+    const double *         values    = nullptr;
+    dealii::Vector<double> diagonal;
   };
 
 

@@ -49,10 +49,13 @@ namespace dieflow
   class SystemAssembler
   {
   public:
+    /// @p matrix_rows: the rows of the assembled J that hold the whole sums
+    /// on P > 1 (MatrixRows::own where only the linear solvers read it).
     SystemAssembler(const DoFHandler<dim> &          dof_handler,
                     const AffineConstraints<double> &update_constraints,
                     const FlowAssembler<dim> &       flow,
-                    const ContactSet<dim> &          contact);
+                    const ContactSet<dim> &          contact,
+                    const MatrixRows                 matrix_rows = MatrixRows::all);
 
     /**
      * J (if @p matrix) and -R at @p v into @p minus_residual, condensed;
@@ -129,6 +132,7 @@ namespace dieflow
     const AffineConstraints<double> &update_constraints;
     const FlowAssembler<dim> &       flow;
     const ContactSet<dim> &          contact;
+    const MatrixRows                 matrix_rows;
     Vector<double>                   raw;
     Counts                           assembly_counts;
   };
