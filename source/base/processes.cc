@@ -265,7 +265,7 @@ namespace dieflow
         start[r] = first_entry(first_row(matrix.m(), 1, r));
       // Each block reduced on its owner (MPI_Reduce), all blocks at once
       // (non-blocking), in chunks of 2^22 entries: MPI counts are int, and
-      // each reduction's buffers stay at 32 MB.
+      // the reductions' buffers stay at P chunks of 32 MB.
       constexpr std::size_t      chunk = std::size_t(1) << 22;
       std::vector<MPI_Request>   requests;
       requests.reserve(n_processes);

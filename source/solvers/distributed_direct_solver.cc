@@ -61,10 +61,11 @@ namespace dieflow
     void
     create(const dealii::SparseMatrix<double> &a)
     {
-      const auto P = processes::n(), r = processes::rank();
-      size         = static_cast<PetscInt>(a.m());
-      first_row    = static_cast<PetscInt>((a.m() * r) / P);
-      last_row     = static_cast<PetscInt>((a.m() * (r + 1)) / P);
+      // The rows the matrix's sums are in (processes::sum_own_rows()).
+      const dealii::IndexSet rows = processes::owned_rows(a.m());
+      size                        = static_cast<PetscInt>(a.m());
+      first_row                   = static_cast<PetscInt>(rows.n_elements() > 0 ? rows.nth_index_in_set(0) : 0);
+      last_row                    = first_row + static_cast<PetscInt>(rows.n_elements());
       std::vector<PetscInt> diagonal(last_row - first_row), off_diagonal(last_row - first_row);
       for (PetscInt row = first_row; row < last_row; ++row)
         for (auto entry = a.begin(row); entry != a.end(row); ++entry)

@@ -69,8 +69,8 @@ namespace dieflow
     // A_1 = sum over the fine rows i of P(i,:)^T D_i (A D P)(i,:): each
     // process sums its block of rows (processes::owned_rows()), row by row
     // through a dense accumulator of A D P's row, into A_1's pattern (that
-    // of deal.II's product, built on the mesh's first set-up by deal.II's
-    // products, whole on every process), and the partial A_1 are summed
+    // of deal.II's product, built on the mesh's first set-up, whole on
+    // every process), and the partial A_1 are summed
     // over the processes. deal.II's products have no range of rows: on
     // every process they formed the whole A_1 at every set-up, 4-5 % of
     // each process's time in a 2-process run of the 3D bar (perf).
@@ -131,29 +131,42 @@ namespace dieflow
     // per mesh, then only the values are recomputed.
     const bool first = !patterns_built;
     patterns_built   = true;
-    if (first)
+    if (processes::n() > 1)
       {
-        product_pattern.reinit(0, 0, 0);
-        product_pattern.compress();
-        product.reinit(product_pattern);
-        coarse_pattern.reinit(0, 0, 0);
-        coarse_pattern.compress();
+        // A holds sums in each process's own rows alone
+        // (processes::sum_own_rows()): deal.II's products, which read every
+        // row, would form NaN. The patterns as they build them
+        // (sparse_matrix.templates.h), the values by rows of A.
+        if (first)
+          {
+            dealii::DynamicSparsityPattern product_entries, coarse_entries;
+            product_entries.compute_mmult_pattern(A.get_sparsity_pattern(), embedding.get_sparsity_pattern());
+            product_pattern.copy_from(product_entries);
+            coarse_entries.compute_Tmmult_pattern(embedding.get_sparsity_pattern(), product_pattern);
+            coarse_pattern.copy_from(coarse_entries);
+          }
         coarse_matrix.reinit(coarse_pattern);
+        galerkin_product(A, embedding, free, coarse_matrix);
       }
     else
       {
-        product.reinit(product_pattern);
-        coarse_matrix.reinit(coarse_pattern);
-      }
-    if (processes::n() == 1 || first)
-      {
+        if (first)
+          {
+            product_pattern.reinit(0, 0, 0);
+            product_pattern.compress();
+            product.reinit(product_pattern);
+            coarse_pattern.reinit(0, 0, 0);
+            coarse_pattern.compress();
+            coarse_matrix.reinit(coarse_pattern);
+          }
+        else
+          {
+            product.reinit(product_pattern);
+            coarse_matrix.reinit(coarse_pattern);
+          }
         A.mmult(product, embedding, free, first);
         embedding.Tmmult(coarse_matrix, product, free, first);
       }
-    // On P > 1 deal.II's products only build the patterns: A holds sums in
-    // each process's own rows alone (processes::sum_own_rows()).
-    if (processes::n() > 1)
-      galerkin_product(A, embedding, free, coarse_matrix);
     // Only the patterns are kept between set-ups: A P's values, a share of
     // the peak heap, are not needed once A_1 is formed.
     product.clear();

@@ -99,7 +99,9 @@ namespace dieflow
    * (initialize_with_rigid_body_modes()), built across the processes where
    * there are several: each process's block of rows (whole nodes: blocks of
    * @p pde_equations rows) in a distributed Trilinos matrix, ML's hierarchy
-   * over all of them, the cycle's result gathered.
+   * over all of them, the cycle's result gathered. With @p pde_equations
+   * > 1 a process's block of rows is rounded to whole nodes: the matrix
+   * must hold its sums in every row (processes::sum(), not sum_own_rows()).
    */
   class RowBlockAMG
   {
