@@ -13,23 +13,27 @@
 //    200 rows are empty and one of 2 rows (on 3 processes the first owns
 //    none); and the same bits on every process (processes::require_same);
 //  - galerkin_product (p-multigrid's coarse operator P^T D A D P, each
-//    process summing its block of fine rows) against deal.II's mmult and
-//    Tmmult of the whole matrices, entry by entry within 1e-13 of the sum of
-//    the terms' magnitudes (|P|^T D |A| D |P|: the same terms in another
-//    order), on random A (1001 x 1001), P (1001 x 240) and D (a fifth of the
-//    rows constrained; the pattern built with none, as on a mesh whose
-//    contact set changes), and the same bits on every process;
+//    process summing its block of fine rows into the pattern of
+//    galerkin_entries(), the sums into each process's coarse rows by
+//    RowSums) against deal.II's mmult and Tmmult of the whole matrices,
+//    entry by entry both ways in each process's rows within 1e-13 of the
+//    sum of the terms' magnitudes (|P|^T D |A| D |P|: the same terms in
+//    another order), NaN in the other rows, on random A (1001 x 1001), P
+//    (1001 x 240) and D (a fifth of the rows constrained; the pattern built
+//    with none, as on a mesh whose contact set changes);
 //  - RowBlockMatrix's products and diagonal (el(i, i), what Chebyshev
-//    reads) on a square matrix summed by sum_own_rows (NaN in the rows a
+//    reads) on a square matrix summed by RowSums (NaN in the rows a
 //    process does not own: a product that read them would be NaN) against
 //    deal.II's of the whole matrix;
 //  - processes::sum of vectors of 1, 2, 5 and 1,001 entries (fewer entries
 //    than processes included) and of a sparse matrix's values, each process
 //    adding (rank + 1) x an integer: the sums are integers, so they must be
-//    exact, and the same bits on every process; processes::sum_own_rows of
+//    exact, and the same bits on every process; processes::RowSums of
 //    the same kind of values, exact in each process's rows and NaN in the
-//    others, on a square matrix, one whose first rows are empty and one of
-//    2 rows.
+//    others, on patterns whole on every process (a square matrix, one whose
+//    first rows are empty and one of 2 rows) and on a matrix assembled by
+//    parts (each process its cells' entries; rows owned in uneven blocks,
+//    processes::own_rows_by_part()) against the same cells assembled whole.
 #include <dieflow/base/processes.h>
 #include <dieflow/solvers/p_multigrid.h>
 #include <dieflow/solvers/row_blocks.h>
@@ -131,7 +135,7 @@ namespace
   }
 
   /// The checks on one matrix; one line each into @p out. RowBlockMatrix
-  /// multiplies with @p summed where given (M summed by sum_own_rows(): M
+  /// multiplies with @p summed where given (M summed by RowSums: M
   /// in this process's rows, NaN in the others), else with M.
   void
   check_products(const std::string &         name,
@@ -186,15 +190,30 @@ namespace
     return failures[0] == 0;
   }
 
-  /// M as sum_own_rows() leaves it: process 0 holds M, the others zero,
-  /// summed (adding zeros is exact: M's values in this process's rows).
-  SparseMatrix<double>
-  summed_own_rows(const SparseMatrix<double> &M)
+  /// RowSums of @p pattern's entries on every process (the pattern whole).
+  struct WholeRowSums
   {
-    SparseMatrix<double> summed(M.get_sparsity_pattern());
+    WholeRowSums(const dealii::SparsityPattern &whole)
+    {
+      dealii::DynamicSparsityPattern entries(whole.n_rows(), whole.n_cols());
+      for (auto entry = whole.begin(); entry != whole.end(); ++entry)
+        entries.add(entry->row(), entry->column());
+      sums.reinit(entries, pattern);
+    }
+    processes::RowSums      sums;
+    dealii::SparsityPattern pattern;
+  };
+
+  /// M as RowSums leaves it: process 0 holds M, the others zero, summed
+  /// (adding zeros is exact: M's values in this process's rows).
+  SparseMatrix<double>
+  summed_own_rows(const SparseMatrix<double> &M, const WholeRowSums &sums)
+  {
+    SparseMatrix<double> summed(sums.pattern);
     if (processes::rank() == 0)
-      summed.copy_from(M);
-    processes::sum_own_rows(summed);
+      for (auto entry = M.begin(); entry != M.end(); ++entry)
+        summed.set(entry->row(), entry->column(), entry->value());
+    sums.sums.sum(summed);
     return summed;
   }
 
@@ -232,8 +251,9 @@ namespace
     check_products("500 x 499, rows 0-199 empty", C, random, out);
     check_products("2 x 1001", D, random, out);
     {
-      const SparseMatrix<double> summed = summed_own_rows(A);
-      check_products("square 1001 x 1001 summed by sum_own_rows", A, random, out, &summed);
+      const WholeRowSums         sums(square);
+      const SparseMatrix<double> summed = summed_own_rows(A, sums);
+      check_products("square 1001 x 1001 summed by RowSums", A, random, out, &summed);
     }
 
     {
@@ -257,8 +277,14 @@ namespace
       expected = 0;
       A.mmult(product, P, free, false);
       P.Tmmult(expected, product, free, false);
-      SparseMatrix<double> computed(expected.get_sparsity_pattern());
-      galerkin_product(A, P, free, computed);
+      // Each process's terms into its own coarse rows (RowSums).
+      dealii::DynamicSparsityPattern entries(P.n(), P.n());
+      galerkin_entries(square, embedding_pattern, entries);
+      processes::RowSums      sums;
+      dealii::SparsityPattern computed_pattern;
+      sums.reinit(entries, computed_pattern);
+      SparseMatrix<double> computed(computed_pattern);
+      galerkin_product(A, P, free, sums, computed);
       SparseMatrix<double> absolute_A(square), absolute_P(embedding_pattern), absolute_product(product_pattern),
         bound(coarse_pattern);
       for (auto e = A.begin(), f = absolute_A.begin(); e != A.end(); ++e, ++f)
@@ -267,17 +293,21 @@ namespace
         f->value() = std::abs(e->value());
       absolute_A.mmult(absolute_product, absolute_P, free, false);
       absolute_P.Tmmult(bound, absolute_product, free, false);
-      bool           agree = true;
-      Vector<double> values(computed.n_nonzero_elements());
-      unsigned int   k = 0;
-      for (auto e = computed.begin(), f = expected.begin(), b = bound.begin(); e != computed.end(); ++e, ++f, ++b, ++k)
-        {
-          agree     = agree && std::abs(e->value() - f->value()) <= 1e-13 * b->value();
-          values[k] = e->value();
-        }
-      const bool same = same_everywhere(values);
-      out << "P^T D A D P (" << computed.n_nonzero_elements() << " entries) as deal.II's products: "
-          << (same && agree ? "ok" : "FAILS") << "\n";
+      // Both ways in this process's rows (an entry missing from either
+      // pattern reads 0), NaN in the others.
+      bool                   agree = true;
+      const dealii::IndexSet own   = processes::owned_rows(computed.m());
+      for (auto e = expected.begin(), b = bound.begin(); e != expected.end(); ++e, ++b)
+        if (own.is_element(e->row()))
+          agree = agree && std::abs(computed.el(e->row(), e->column()) - e->value()) <= 1e-13 * b->value();
+      for (auto e = computed.begin(); e != computed.end(); ++e)
+        agree = agree && (own.is_element(e->row()) ?
+                            std::abs(e->value() - expected.el(e->row(), e->column())) <=
+                              1e-13 * bound.el(e->row(), e->column()) :
+                            std::isnan(e->value()));
+      out << "P^T D A D P (" << expected.n_nonzero_elements()
+          << " entries) as deal.II's products, each process's coarse rows: " << (everywhere(agree) ? "ok" : "FAILS")
+          << "\n";
     }
 
     const double rank_factor = processes::rank() + 1., total = processes::n() * (processes::n() + 1.) / 2.;
@@ -311,27 +341,100 @@ namespace
       out << "sum of a sparse matrix's " << S.n_nonzero_elements() << " values: exact: "
           << (same && exact ? "ok" : "FAILS") << "\n";
     }
-    // sum_own_rows: the exact sums in this process's rows, NaN in the
-    // others; a square matrix, one whose first 200 rows are empty and one
-    // of 2 rows (on 3 processes the first owns none).
+    // RowSums of a pattern whole on every process: the exact sums in this
+    // process's rows, NaN in the others; a square matrix, one whose first
+    // 200 rows are empty and one of 2 rows (on 3 processes the first owns
+    // none).
     for (const auto &[name, pattern] : {std::pair{"1001 x 1001", &square},
                                         std::pair{"500 x 499, rows 0-199 empty", &empty_first},
                                         std::pair{"2 x 1001", &two_rows}})
       {
-        SparseMatrix<double> S(*pattern);
+        const WholeRowSums   sums(*pattern);
+        SparseMatrix<double> S(sums.pattern);
         unsigned int         k = 0;
         for (auto entry = S.begin(); entry != S.end(); ++entry)
           entry->value() = rank_factor * (++k);
-        processes::sum_own_rows(S);
+        sums.sums.sum(S);
         const dealii::IndexSet own   = processes::owned_rows(S.m());
         bool                   exact = true;
         k                            = 0;
         for (auto entry = S.begin(); entry != S.end(); ++entry, ++k)
           exact = exact && (own.is_element(entry->row()) ? entry->value() == total * (k + 1) : std::isnan(entry->value()));
-        out << "sum_own_rows of a " << name << " matrix's " << S.n_nonzero_elements()
-            << " values: exact in each process's rows, NaN in the others: " << (everywhere(exact) ? "ok" : "FAILS")
-            << "\n";
+        out << "RowSums of a " << name << " matrix's " << S.n_nonzero_elements()
+            << " values on every process: exact in each process's rows, NaN in the others: "
+            << (everywhere(exact) ? "ok" : "FAILS") << "\n";
       }
+    {
+      // A matrix assembled by parts, as the flow's: 777 rows owned in
+      // uneven blocks (own_rows_by_part()), "cells" k of the rows {k, k + 1,
+      // 37 k + 5 mod 777}, cell k assembled by the owner of row k (so its
+      // entries reach the next block and, through the third row, any
+      // other), integer values: each process's rows, summed by RowSums
+      // from the entries each process added, must equal exactly those of
+      // the same cells assembled whole (every entry, both ways), the other
+      // rows NaN.
+      const unsigned int                           n = 777, P = processes::n();
+      std::vector<dealii::types::global_dof_index> rows_of_part(P);
+      dealii::types::global_dof_index              given = 0;
+      for (unsigned int r = 0; r < P; ++r)
+        given += rows_of_part[r] = r + 1 < P ? 2 * n * (r + 1) / (P * (P + 1)) : n - given;
+      processes::own_rows_by_part(rows_of_part);
+      const dealii::IndexSet own = processes::owned_rows(n);
+      dealii::types::global_dof_index first = 0;
+      for (unsigned int r = 0; r < processes::rank(); ++r)
+        first += rows_of_part[r];
+      const auto cell_rows = [&](const unsigned int k) {
+        std::vector<dealii::types::global_dof_index> rows{k, k + 1, (37 * k + 5) % n};
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+        return rows;
+      };
+      const auto owner = [&](const dealii::types::global_dof_index row) {
+        unsigned int                    r   = 0;
+        dealii::types::global_dof_index end = rows_of_part[0];
+        while (row >= end)
+          end += rows_of_part[++r];
+        return r;
+      };
+      const auto value = [&](const unsigned int k, const unsigned int a, const unsigned int b) {
+        return (owner(k) + 1.) * (1 + (k + 3 * a + 5 * b) % 11);
+      };
+      dealii::DynamicSparsityPattern mine(n), whole(n);
+      for (unsigned int k = 0; k + 1 < n; ++k)
+        for (const auto i : cell_rows(k))
+          for (const auto j : cell_rows(k))
+            {
+              whole.add(i, j);
+              if (owner(k) == processes::rank())
+                mine.add(i, j);
+            }
+      processes::RowSums      sums;
+      dealii::SparsityPattern pattern, whole_pattern;
+      sums.reinit(mine, pattern);
+      whole_pattern.copy_from(whole);
+      SparseMatrix<double> S(pattern), W(whole_pattern);
+      for (unsigned int k = 0; k + 1 < n; ++k)
+        {
+          const auto rows = cell_rows(k);
+          for (unsigned int a = 0; a < rows.size(); ++a)
+            for (unsigned int b = 0; b < rows.size(); ++b)
+              {
+                W.add(rows[a], rows[b], value(k, a, b));
+                if (owner(k) == processes::rank())
+                  S.add(rows[a], rows[b], value(k, a, b));
+              }
+        }
+      sums.sum(S);
+      bool exact = own.n_elements() == rows_of_part[processes::rank()] &&
+                   (own.n_elements() == 0 || own.nth_index_in_set(0) == first);
+      for (auto e = W.begin(); e != W.end(); ++e)
+        if (own.is_element(e->row()))
+          exact = exact && S.el(e->row(), e->column()) == e->value();
+      for (auto e = S.begin(); e != S.end(); ++e)
+        exact = exact && (own.is_element(e->row()) ? e->value() == W.el(e->row(), e->column()) : std::isnan(e->value()));
+      out << "RowSums of a matrix assembled by parts (" << n << " rows in uneven blocks): exact in each process's "
+          << "rows, NaN in the others: " << (everywhere(exact) ? "ok" : "FAILS") << "\n";
+    }
     if (processes::writes_output())
       std::ofstream(file) << out.str();
     return 0;

@@ -1,6 +1,8 @@
 // The MPI processes of a run: who this one is, which cells it assembles, and the sums that keep the replicated state the same bits on every process.
 #include <dieflow/base/processes.h>
 
+#include <deal.II/dofs/dof_renumbering.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/grid/grid_tools.h>
 
 #include <petscsys.h>
@@ -11,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace dieflow
@@ -220,14 +223,63 @@ namespace dieflow
 
     namespace
     {
+      /// The rows own_rows_by_part() gave: process r's from first_of_part[r].
+      std::vector<dealii::types::global_dof_index> first_of_part;
+
       /// The first row of process @p r's block (owned_rows()).
       dealii::types::global_dof_index
       first_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r)
       {
+        if (first_of_part.size() == n_processes + 1 && first_of_part.back() == n)
+          {
+            if (first_of_part[r] % block != 0)
+              throw std::logic_error("processes::owned_rows: the parts' rows are not in blocks of " +
+                                     std::to_string(block));
+            return first_of_part[r];
+          }
         // In 64 bits: (n / block) r overflows a 32-bit index from n r = 2^32 on.
         const std::uint64_t blocks = n / block;
         return r == n_processes ? n :
                                   static_cast<dealii::types::global_dof_index>(block * ((blocks * r) / n_processes));
+      }
+
+      /**
+       * Sends @p outgoing[q] to each process q and returns what each sent
+       * to this one (collective; the lengths first, then the messages,
+       * all in flight at once).
+       */
+      std::vector<std::vector<std::uint64_t>>
+      exchange(const std::vector<std::vector<std::uint64_t>> &outgoing)
+      {
+        std::vector<std::uint64_t> sending(n_processes), receiving(n_processes);
+        for (unsigned int q = 0; q < n_processes; ++q)
+          sending[q] = outgoing[q].size();
+        MPI_Alltoall(sending.data(), 1, MPI_UINT64_T, receiving.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+        std::vector<std::vector<std::uint64_t>> incoming(n_processes);
+        std::vector<MPI_Request>                requests;
+        for (unsigned int q = 0; q < n_processes; ++q)
+          {
+            if (q == this_rank)
+              continue;
+            if (receiving[q] > std::uint64_t(std::numeric_limits<int>::max()) ||
+                sending[q] > std::uint64_t(std::numeric_limits<int>::max()))
+              throw std::runtime_error("processes::RowSums: a pattern's border of more than 2^31 entries");
+            incoming[q].resize(receiving[q]);
+            if (receiving[q] > 0)
+              {
+                requests.emplace_back();
+                MPI_Irecv(incoming[q].data(), static_cast<int>(receiving[q]), MPI_UINT64_T, static_cast<int>(q), 0,
+                          MPI_COMM_WORLD, &requests.back());
+              }
+            if (sending[q] > 0)
+              {
+                requests.emplace_back();
+                MPI_Isend(outgoing[q].data(), static_cast<int>(sending[q]), MPI_UINT64_T, static_cast<int>(q), 0,
+                          MPI_COMM_WORLD, &requests.back());
+              }
+          }
+        MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+        return incoming;
       }
     } // namespace
 
@@ -244,51 +296,144 @@ namespace dieflow
 
 
     void
-    sum_own_rows(dealii::SparseMatrix<double> &matrix)
+    own_rows_by_part(const std::vector<dealii::types::global_dof_index> &rows_of_part)
+    {
+      if (n_processes == 1)
+        return;
+      if (rows_of_part.size() != n_processes)
+        throw std::logic_error("processes::own_rows_by_part: one count per process");
+      first_of_part.assign(1, 0);
+      for (const auto rows : rows_of_part)
+        first_of_part.push_back(first_of_part.back() + rows);
+    }
+
+
+
+    void
+    RowSums::reinit(dealii::DynamicSparsityPattern &entries, dealii::SparsityPattern &pattern, const unsigned int block)
+    {
+      const auto m = entries.n_rows();
+      if (n_processes == 1)
+        {
+          pattern.copy_from(entries);
+          return;
+        }
+      std::vector<dealii::types::global_dof_index> first(n_processes + 1);
+      for (unsigned int q = 0; q <= n_processes; ++q)
+        first[q] = first_row(m, block, q);
+
+      // 1. This process's entries in each other process's rows to their
+      // owner (row, length, columns for each row with entries), which adds
+      // them to its own rows.
+      std::vector<std::vector<std::uint64_t>> outgoing(n_processes);
+      for (unsigned int q = 0; q < n_processes; ++q)
+        if (q != this_rank)
+          for (auto row = first[q]; row < first[q + 1]; ++row)
+            if (const auto length = entries.row_length(row); length > 0)
+              {
+                outgoing[q].push_back(row);
+                outgoing[q].push_back(length);
+                for (auto entry = entries.begin(row); entry != entries.end(row); ++entry)
+                  outgoing[q].push_back(entry->column());
+              }
+      {
+        const auto incoming = exchange(outgoing);
+        std::vector<dealii::types::global_dof_index> columns;
+        for (const auto &message : incoming)
+          for (std::size_t k = 0; k < message.size();)
+            {
+              const auto row = message[k], length = message[k + 1];
+              columns.assign(message.begin() + k + 2, message.begin() + k + 2 + length);
+              entries.add_entries(row, columns.begin(), columns.end(), true);
+              k += 2 + length;
+            }
+      }
+      pattern.copy_from(entries);
+
+      // 2. The pattern's rows of each other process as stored (its diagonal
+      // first where square), one length per row, then the columns: the
+      // owner finds where each value sum() sends adds in its own array.
+      first_entry.assign(n_processes + 1, 0);
+      const auto entry_of_row = [&](const dealii::types::global_dof_index row) -> std::size_t {
+        return row == m ? pattern.n_nonzero_elements() : pattern.begin(row)->global_index();
+      };
+      for (unsigned int q = 0; q <= n_processes; ++q)
+        first_entry[q] = entry_of_row(first[q]);
+      for (unsigned int q = 0; q < n_processes; ++q)
+        {
+          outgoing[q].clear();
+          if (q == this_rank || first_entry[q + 1] == first_entry[q])
+            continue;
+          for (auto row = first[q]; row < first[q + 1]; ++row)
+            outgoing[q].push_back(pattern.row_length(row));
+          for (auto row = first[q]; row < first[q + 1]; ++row)
+            for (unsigned int k = 0; k < pattern.row_length(row); ++k)
+              outgoing[q].push_back(pattern.column_number(row, k));
+        }
+      const auto incoming = exchange(outgoing);
+      received.assign(n_processes, {});
+      const auto own_rows = first[this_rank + 1] - first[this_rank];
+      for (unsigned int q = 0; q < n_processes; ++q)
+        if (!incoming[q].empty())
+          {
+            std::size_t column = own_rows;
+            for (dealii::types::global_dof_index k = 0; k < own_rows; ++k)
+              {
+                const auto row = first[this_rank] + k;
+                for (std::uint64_t e = 0; e < incoming[q][k]; ++e, ++column)
+                  {
+                    const auto index = pattern(row, incoming[q][column]);
+                    if (index == dealii::SparsityPattern::invalid_entry)
+                      throw std::logic_error("processes::RowSums: an entry another process adds is not in the pattern");
+                    received[q].push_back(index);
+                  }
+              }
+          }
+    }
+
+
+
+    void
+    RowSums::sum(dealii::SparseMatrix<double> &matrix) const
     {
       if (n_processes == 1)
         return;
       double *const values = const_cast<double *>(matrix_values(matrix));
-      if (values == nullptr)
-        return;
-      // The entries of process r's rows are [start[r], start[r + 1]) of
-      // the value array (rows stored one after the other).
-      const dealii::SparsityPattern &pattern = matrix.get_sparsity_pattern();
-      const auto first_entry = [&](dealii::types::global_dof_index row) -> std::size_t {
-        for (; row < matrix.m(); ++row)
-          if (pattern.row_length(row) > 0)
-            return pattern.begin(row)->global_index();
-        return matrix.n_nonzero_elements();
-      };
-      std::vector<std::size_t> start(n_processes + 1);
-      for (unsigned int r = 0; r <= n_processes; ++r)
-        start[r] = first_entry(first_row(matrix.m(), 1, r));
-      // Each block reduced on its owner (MPI_Reduce), all blocks at once
-      // (non-blocking), in chunks of 2^22 entries: MPI counts are int, and
-      // the reductions' buffers stay at P chunks of 32 MB.
-      constexpr std::size_t      chunk = std::size_t(1) << 22;
-      std::vector<MPI_Request>   requests;
-      requests.reserve(n_processes);
-      for (std::size_t offset = 0;; offset += chunk)
+      // The entries of each other process's rows to it, in slices of 2^27
+      // (MPI counts are int; messages of one pair and tag arrive in order).
+      constexpr std::size_t            slice = std::size_t(1) << 27;
+      std::vector<std::vector<double>> incoming(n_processes);
+      std::vector<MPI_Request>         requests;
+      for (unsigned int q = 0; q < n_processes; ++q)
         {
-          requests.clear();
-          for (unsigned int r = 0; r < n_processes; ++r)
-            if (start[r] + offset < start[r + 1])
-              {
-                double *const part   = values + start[r] + offset;
-                const int     length = static_cast<int>(std::min(chunk, start[r + 1] - start[r] - offset));
-                requests.emplace_back();
-                MPI_Ireduce(r == this_rank ? MPI_IN_PLACE : part, r == this_rank ? part : nullptr, length, MPI_DOUBLE,
-                            MPI_SUM, static_cast<int>(r), MPI_COMM_WORLD, &requests.back());
-              }
-          if (requests.empty())
-            break;
-          MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+          if (q == this_rank)
+            continue;
+          incoming[q].resize(received[q].size());
+          for (std::size_t start = 0; start < incoming[q].size(); start += slice)
+            {
+              requests.emplace_back();
+              MPI_Irecv(incoming[q].data() + start, static_cast<int>(std::min(slice, incoming[q].size() - start)),
+                        MPI_DOUBLE, static_cast<int>(q), 1, MPI_COMM_WORLD, &requests.back());
+            }
+          for (std::size_t start = first_entry[q]; start < first_entry[q + 1]; start += slice)
+            {
+              requests.emplace_back();
+              MPI_Isend(values + start, static_cast<int>(std::min(slice, first_entry[q + 1] - start)), MPI_DOUBLE,
+                        static_cast<int>(q), 1, MPI_COMM_WORLD, &requests.back());
+            }
         }
+      MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+      for (unsigned int q = 0; q < n_processes; ++q)
+        for (std::size_t k = 0; k < incoming[q].size(); ++k)
+          values[received[q][k]] += incoming[q][k];
       // The other rows hold partial sums: NaN, so that a reader of rows not
       // its own fails at once instead of computing with them.
-      std::fill(values, values + start[this_rank], std::numeric_limits<double>::quiet_NaN());
-      std::fill(values + start[this_rank + 1], values + start[n_processes], std::numeric_limits<double>::quiet_NaN());
+      if (values != nullptr)
+        {
+          std::fill(values, values + first_entry[this_rank], std::numeric_limits<double>::quiet_NaN());
+          std::fill(values + first_entry[this_rank + 1], values + first_entry[n_processes],
+                    std::numeric_limits<double>::quiet_NaN());
+        }
     }
 
 
@@ -347,9 +492,30 @@ namespace dieflow
         cell->set_subdomain_id(parts[cell->active_cell_index()]);
     }
 
+    template <int dim>
+    void
+    distribute_dofs(dealii::DoFHandler<dim> &dof_handler, const dealii::FiniteElement<dim> &fe)
+    {
+      partition(const_cast<dealii::Triangulation<dim> &>(dof_handler.get_triangulation()));
+      dof_handler.distribute_dofs(fe);
+      if (n_processes == 1)
+        return;
+      dealii::DoFRenumbering::subdomain_wise(dof_handler);
+      std::vector<dealii::types::subdomain_id> part(dof_handler.n_dofs());
+      dealii::DoFTools::get_subdomain_association(dof_handler, part);
+      std::vector<dealii::types::global_dof_index> rows_of_part(n_processes, 0);
+      for (const auto p : part)
+        ++rows_of_part[p];
+      own_rows_by_part(rows_of_part);
+    }
+
     template void
     partition(dealii::Triangulation<2> &);
     template void
     partition(dealii::Triangulation<3> &);
+    template void
+    distribute_dofs(dealii::DoFHandler<2> &, const dealii::FiniteElement<2> &);
+    template void
+    distribute_dofs(dealii::DoFHandler<3> &, const dealii::FiniteElement<3> &);
   } // namespace processes
 } // namespace dieflow

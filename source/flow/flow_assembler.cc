@@ -225,7 +225,7 @@ namespace dieflow
                                Vector<double> &                 rhs,
                                Vector<double> &                 raw_residual,
                                const RowTransforms *            transforms,
-                               const MatrixRows                 rows) const
+                               const processes::RowSums *       row_sums) const
   {
     Assert(terms.penalty > 0, dealii::ExcMessage("The penalty has not been set."));
     MixedPenalty<dim> *const    mixed          = (terms.mixed != nullptr && matrix != nullptr) ? terms.mixed : nullptr;
@@ -403,9 +403,9 @@ namespace dieflow
                             ScratchData<dim>(fe, coordinates),
                             CopyData());
     // Each process assembled its own cells: the sums are the whole system
-    // (the matrix only in each process's own rows where @p rows says so).
-    if (matrix != nullptr && rows == MatrixRows::own)
-      processes::sum_own_rows(*matrix);
+    // (the matrix only in each process's own rows where @p row_sums is given).
+    if (matrix != nullptr && row_sums != nullptr)
+      row_sums->sum(*matrix);
     else if (matrix != nullptr)
       processes::sum(*matrix);
     if (mixed != nullptr)
@@ -427,9 +427,9 @@ namespace dieflow
                                       Vector<double> &                 rhs,
                                       Vector<double> &                 raw_residual,
                                       const RowTransforms *            transforms,
-                                      const MatrixRows                 rows) const
+                                      const processes::RowSums *       row_sums) const
   {
-    assemble(dof_handler, velocity, terms, update_constraints, linearization, &matrix, rhs, raw_residual, transforms, rows);
+    assemble(dof_handler, velocity, terms, update_constraints, linearization, &matrix, rhs, raw_residual, transforms, row_sums);
   }
 
 
@@ -445,7 +445,7 @@ namespace dieflow
                                         const RowTransforms *            transforms) const
   {
     assemble(dof_handler, velocity, terms, update_constraints, Linearization::picard, nullptr, rhs, raw_residual, transforms,
-             MatrixRows::all);
+             nullptr);
   }
 
 

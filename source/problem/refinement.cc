@@ -5,7 +5,9 @@
 #include <dieflow/postprocess/goal_estimate.h>
 #include <dieflow/problem/problem.h>
 
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_dgq.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/numerics/solution_transfer.h>
 
 #include <iomanip>
@@ -64,7 +66,8 @@ namespace dieflow
     if (carry_stress)
       cell_transfer.prepare_for_coarsening_and_refinement(cell_values);
     triangulation.execute_coarsening_and_refinement();
-    dof_handler.distribute_dofs(fe);
+    // (numbered as setup_system() will number them again)
+    processes::distribute_dofs(dof_handler, fe);
     Vector<double> transferred(dof_handler.n_dofs());
     transfer.interpolate(velocity, transferred);
     velocity = transferred;
@@ -103,10 +106,19 @@ namespace dieflow
           system.assemble(velocity, flow_terms(), Linearization::newton, &system_matrix, system_rhs).symmetric;
         linear_solver.factorize(system_matrix, matrix_symmetric);
       }
+    // The flow Jacobian's transpose product reads every row: on P > 1 a
+    // pattern of all rows for it (the system's holds a process's own).
+    dealii::SparsityPattern all_rows;
+    if (processes::n() > 1)
+      {
+        dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
+        dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, false);
+        all_rows.copy_from(dsp);
+      }
     return force_dual(dof_handler,
                       hanging_node_constraints,
                       update_constraints,
-                      sparsity_pattern,
+                      processes::n() > 1 ? all_rows : sparsity_pattern,
                       velocity,
                       assembler,
                       flow_terms(),

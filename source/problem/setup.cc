@@ -71,7 +71,7 @@ namespace dieflow
     , fe(dealii::FE_Q<dim>(parameters.velocity_degree), dim)
     , dof_handler(triangulation)
     , incompressibility(parameters.material, parameters.coordinates, dof_handler, linear_solver, log)
-    , system(dof_handler, update_constraints, assembler, contact, MatrixRows::own)
+    , system(dof_handler, update_constraints, assembler, contact, &row_sums)
     , incremental(parameters.time_stepping, parameters.coordinates, parameters.material)
     , heat(parameters.heat, parameters.material, parameters.coordinates, triangulation, parameters.velocity_degree)
     , strain(parameters.strain, parameters.material, parameters.coordinates, triangulation, parameters.velocity_degree)
@@ -115,9 +115,8 @@ namespace dieflow
   {
     dealii::TimerOutput::Scope scope(timer, "setup");
     const auto &               bc = parameters.boundary_conditions;
-    // Which cells this process assembles (all of them on one).
-    processes::partition(triangulation);
-    dof_handler.distribute_dofs(fe);
+    // Which cells this process assembles (all of them on one), and its rows.
+    processes::distribute_dofs(dof_handler, fe);
 
     hanging_node_constraints.clear();
     dealii::DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
@@ -154,9 +153,15 @@ namespace dieflow
 
     // Wall and Dirichlet constraints only couple the components of one node,
     // which the pattern couples anyway: the hanging-node pattern serves all.
-    dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
-    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, false);
-    sparsity_pattern.copy_from(dsp);
+    // On P > 1 each process's cells' entries, to which RowSums adds the
+    // other processes' in its own rows.
+    {
+      dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
+      dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, false,
+                                              processes::n() > 1 ? processes::rank() :
+                                                                   dealii::numbers::invalid_subdomain_id);
+      row_sums.reinit(dsp, sparsity_pattern);
+    }
     system_matrix.reinit(sparsity_pattern);
     incompressibility.reinit(hanging_node_constraints, velocity, system_matrix);
     system_rhs.reinit(dof_handler.n_dofs());

@@ -61,7 +61,7 @@ namespace dieflow
     void
     create(const dealii::SparseMatrix<double> &a)
     {
-      // The rows the matrix's sums are in (processes::sum_own_rows()).
+      // The rows the matrix's sums are in (processes::RowSums).
       const dealii::IndexSet rows = processes::owned_rows(a.m());
       size                        = static_cast<PetscInt>(a.m());
       first_row                   = static_cast<PetscInt>(rows.n_elements() > 0 ? rows.nth_index_in_set(0) : 0);

@@ -23,6 +23,8 @@ namespace dieflow
     // The update constraints other than hanging nodes couple the
     // components of one node (walls, contact), which every cell couples
     // anyway: the hanging-node pattern serves all, as for the velocity block.
+    // B^T as the velocity block on P > 1 processes: each process's cells'
+    // entries, to which RowSums adds the others' in its own rows.
     dealii::AffineConstraints<double>           none;
     none.close();
     dealii::DynamicSparsityPattern              b(n_cells * n_modes, n_dofs), bt(n_dofs, n_cells * n_modes);
@@ -33,12 +35,13 @@ namespace dieflow
         for (unsigned int m = 0; m < n_modes; ++m)
           modes[m] = cell->active_cell_index() * n_modes + m;
         none.add_entries_local_to_global(modes, hanging, dofs, b, true);
-        hanging.add_entries_local_to_global(dofs, none, modes, bt, true);
+        if (processes::owns(cell))
+          hanging.add_entries_local_to_global(dofs, none, modes, bt, true);
       }
     divergence.clear();
     gradient.clear();
     divergence_pattern.copy_from(b);
-    gradient_pattern.copy_from(bt);
+    gradient_sums.reinit(bt, gradient_pattern);
     divergence.reinit(divergence_pattern);
     gradient.reinit(gradient_pattern);
     masses.assign(n_cells * n_modes * n_modes, 0.);
@@ -70,7 +73,7 @@ namespace dieflow
   MixedPenalty<dim>::sum_over_processes()
   {
     processes::sum(divergence);
-    processes::sum(gradient);
+    gradient_sums.sum(gradient);
     processes::sum(penalty);
     processes::sum(viscosity);
     processes::sum(size);
@@ -163,9 +166,11 @@ namespace dieflow
       for (unsigned int m = 0; m < n_modes; ++m)
         for (unsigned int n = 0; n < n_modes; ++n)
           c[k * n_modes + m] += penalty[k] * std::abs(inverse_masses[(k * n_modes + m) * n_modes + n]) * b[k * n_modes + n];
-    for (unsigned int i = 0; i < gradient.m(); ++i)
+    // B^T's rows where each process holds them (all on one), gathered.
+    for (const auto i : processes::owned_rows(gradient.m()))
       for (auto e = gradient.begin(i); e != gradient.end(i); ++e)
         rows[i] += std::abs(e->value()) * c[e->column()];
+    processes::gather(rows);
     return rows;
   }
 

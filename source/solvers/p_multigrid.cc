@@ -61,19 +61,45 @@ namespace dieflow
 
 
   void
+  galerkin_entries(const dealii::SparsityPattern &A, const dealii::SparsityPattern &embedding,
+                   dealii::DynamicSparsityPattern &entries)
+  {
+    std::vector<bool>                            in_row(embedding.n_cols(), false);
+    std::vector<dealii::types::global_dof_index> columns;
+    for (const auto i : processes::owned_rows(A.n_rows()))
+      {
+        columns.clear();
+        for (auto a = A.begin(i); a != A.end(i); ++a)
+          for (auto p = embedding.begin(a->column()); p != embedding.end(a->column()); ++p)
+            if (!in_row[p->column()])
+              {
+                in_row[p->column()] = true;
+                columns.push_back(p->column());
+              }
+        std::sort(columns.begin(), columns.end());
+        for (auto p = embedding.begin(i); p != embedding.end(i); ++p)
+          entries.add_entries(p->column(), columns.begin(), columns.end(), true);
+        for (const auto j : columns)
+          in_row[j] = false;
+      }
+  }
+
+
+
+  void
   galerkin_product(const dealii::SparseMatrix<double> &A,
                    const dealii::SparseMatrix<double> &embedding,
                    const dealii::Vector<double> &      free,
+                   const processes::RowSums &          sums,
                    dealii::SparseMatrix<double> &      coarse_matrix)
   {
     // A_1 = sum over the fine rows i of P(i,:)^T D_i (A D P)(i,:): each
     // process sums its block of rows (processes::owned_rows()), row by row
-    // through a dense accumulator of A D P's row, into A_1's pattern (that
-    // of deal.II's product, built on the mesh's first set-up, whole on
-    // every process), and the partial A_1 are summed
-    // over the processes. deal.II's products have no range of rows: on
-    // every process they formed the whole A_1 at every set-up, 4-5 % of
-    // each process's time in a 2-process run of the 3D bar (perf).
+    // through a dense accumulator of A D P's row, into A_1's pattern, and
+    // the partial A_1 are summed into each process's own coarse rows.
+    // deal.II's products have no range of rows: on every process they
+    // formed the whole A_1 at every set-up, 4-5 % of each process's time
+    // in a 2-process run of the 3D bar (perf).
     coarse_matrix = 0;
     std::vector<double>                          row(coarse_matrix.n(), 0.);
     std::vector<bool>                            in_row(coarse_matrix.n(), false);
@@ -109,7 +135,7 @@ namespace dieflow
             in_row[j] = false;
           }
       }
-    processes::sum(coarse_matrix);
+    sums.sum(coarse_matrix);
   }
 
 
@@ -133,20 +159,18 @@ namespace dieflow
     patterns_built   = true;
     if (processes::n() > 1)
       {
-        // A holds sums in each process's own rows alone
-        // (processes::sum_own_rows()): deal.II's products, which read every
-        // row, would form NaN. The patterns as they build them
-        // (sparse_matrix.templates.h), the values by rows of A.
+        // A holds its sums, and its pattern, in each process's own rows
+        // alone (processes::RowSums): deal.II's products, which read every
+        // row, would form NaN. A_1 by A's own rows, into each process's own
+        // coarse rows (whole nodes, as RowBlockAMG reads them).
         if (first)
           {
-            dealii::DynamicSparsityPattern product_entries, coarse_entries;
-            product_entries.compute_mmult_pattern(A.get_sparsity_pattern(), embedding.get_sparsity_pattern());
-            product_pattern.copy_from(product_entries);
-            coarse_entries.compute_Tmmult_pattern(embedding.get_sparsity_pattern(), product_pattern);
-            coarse_pattern.copy_from(coarse_entries);
+            dealii::DynamicSparsityPattern entries(coarse_dofs.n_dofs(), coarse_dofs.n_dofs());
+            galerkin_entries(A.get_sparsity_pattern(), embedding.get_sparsity_pattern(), entries);
+            coarse_sums.reinit(entries, coarse_pattern, dim);
           }
         coarse_matrix.reinit(coarse_pattern);
-        galerkin_product(A, embedding, free, coarse_matrix);
+        galerkin_product(A, embedding, free, coarse_sums, coarse_matrix);
       }
     else
       {
@@ -170,13 +194,17 @@ namespace dieflow
     // Only the patterns are kept between set-ups: A P's values, a share of
     // the peak heap, are not needed once A_1 is formed.
     product.clear();
-    // Coarse dofs that reach only constrained fine dofs have empty rows.
-    double diagonal_sum = 0;
-    for (unsigned int i = 0; i < coarse_matrix.m(); ++i)
-      diagonal_sum += std::abs(coarse_matrix.diag_element(i));
-    for (unsigned int i = 0; i < coarse_matrix.m(); ++i)
+    // Coarse dofs that reach only constrained fine dofs have empty rows
+    // (on P > 1 each process mends its own rows, the mean over all).
+    const dealii::IndexSet coarse_rows = processes::n() > 1 ? processes::owned_rows(coarse_matrix.m(), dim) :
+                                                              dealii::complete_index_set(coarse_matrix.m());
+    std::vector<double>    diagonal_sum{0.};
+    for (const auto i : coarse_rows)
+      diagonal_sum[0] += std::abs(coarse_matrix.diag_element(i));
+    processes::sum(diagonal_sum);
+    for (const auto i : coarse_rows)
       if (coarse_matrix.diag_element(i) == 0)
-        coarse_matrix.diag_element(i) = diagonal_sum / coarse_matrix.m();
+        coarse_matrix.diag_element(i) = diagonal_sum[0] / coarse_matrix.m();
 
     typename decltype(smoother)::AdditionalData data;
     // The outer iterations depend little on the Chebyshev degree and range

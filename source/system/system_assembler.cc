@@ -14,12 +14,12 @@ namespace dieflow
                                         const AffineConstraints<double> &update_constraints,
                                         const FlowAssembler<dim> &       flow,
                                         const ContactSet<dim> &          contact,
-                                        const MatrixRows                 matrix_rows)
+                                        const processes::RowSums *       row_sums)
     : dof_handler(dof_handler)
     , update_constraints(update_constraints)
     , flow(flow)
     , contact(contact)
-    , matrix_rows(matrix_rows)
+    , row_sums(row_sums)
   {}
 
 
@@ -76,16 +76,29 @@ namespace dieflow
       }
     if (matrix != nullptr)
       flow_assembler.assemble_system(dof_handler, v, terms, update_constraints, linearization, *matrix, minus_residual, raw,
-                                     &transforms, matrix_rows);
+                                     &transforms, row_sums);
     else
       flow_assembler.assemble_residual(dof_handler, v, terms, update_constraints, minus_residual, raw, &transforms);
 
+    // A contact element's terms couple the components of its node alone
+    // (the wall and Dirichlet constraints too; a hanging node is no wall
+    // node): where J is summed into own rows, the node's owner adds them.
+    const bool             own_rows_only = matrix != nullptr && row_sums != nullptr && processes::n() > 1;
+    const dealii::IndexSet own           = own_rows_only ? processes::owned_rows(matrix->m()) : dealii::IndexSet();
     std::vector<GlobalDof> dofs(dim);
     for (auto &c : contributions)
       {
         std::copy(c.dofs.begin(), c.dofs.end(), dofs.begin());
         c.residual *= -1.;
-        if (matrix != nullptr)
+        if (own_rows_only)
+          {
+            // The residual on every process alike (the same bits), apart
+            // from the matrix (the joint call may add in another order).
+            update_constraints.distribute_local_to_global(c.residual, dofs, minus_residual);
+            if (own.is_element(dofs[0]))
+              update_constraints.distribute_local_to_global(c.tangent, dofs, *matrix);
+          }
+        else if (matrix != nullptr)
           update_constraints.distribute_local_to_global(c.tangent, c.residual, dofs, *matrix, minus_residual);
         else
           update_constraints.distribute_local_to_global(c.residual, dofs, minus_residual);

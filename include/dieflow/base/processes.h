@@ -4,8 +4,12 @@
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/types.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
 
 #include <mpi.h>
@@ -22,11 +26,12 @@ namespace dieflow
    * surface, the report's fields), and runs the same algorithm on it; what
    * is divided is the expensive part of a Newton iteration:
    *  - the flow's cell terms (FlowAssembler): each process assembles the
-   *    cells of its METIS part (partition()), and the partial systems are
-   *    summed: the right-hand side whole on every process (sum()), the
-   *    matrix only in each process's own rows (sum_own_rows()), the only
-   *    ones its readers (the products, the direct and iterative solvers'
-   *    copies, the round-off bound) read;
+   *    cells of its METIS part (partition()), whose dofs are numbered as one
+   *    block, the rows it owns (own_rows_by_part()), and the partial systems
+   *    are summed: the right-hand side whole on every process (sum()), the
+   *    matrix only in each process's own rows (RowSums), the only ones its
+   *    readers (the products, the direct and iterative solvers' copies, the
+   *    round-off bound) read, and the only ones it stores whole;
    *  - the linear solve: the direct solver factorises across processes
    *    (MUMPS, DistributedDirectSolver), each owning a block of rows; the
    *    iterative solvers multiply by blocks of rows (RowBlockMatrix, ML
@@ -99,14 +104,40 @@ namespace dieflow
     sum(std::vector<double> &v);
 
     /**
-     * Sums @p matrix over the processes in this process's rows
-     * (owned_rows(matrix.m())), each row's sum formed on its owner alone;
-     * the other rows are set to NaN, so that a reader of rows not its own
-     * fails at once instead of computing with partial sums. Half the
-     * traffic of sum(), and no process receives the whole matrix.
+     * A matrix that each process assembles in part (its cells), summed into
+     * each process's own rows (owned_rows(m, block)) and stored there whole:
+     * a process's pattern holds its own rows with every process's entries
+     * in them and, of the other rows, only the entries it adds itself (at
+     * its part's border). sum() sends those to their owners, which add what
+     * they receive in the order of the ranks, so a row's sum does not depend
+     * on the order of arrival. The matrix is not stored whole anywhere:
+     * with the dofs numbered by parts (own_rows_by_part()), a process holds
+     * about a P-th of it.
      */
-    void
-    sum_own_rows(dealii::SparseMatrix<double> &matrix);
+    class RowSums
+    {
+    public:
+      /**
+       * Collective. @p entries: those this process will add (any rows). On
+       * return its own rows also hold the other processes' entries in them,
+       * @p pattern is made from it, and sum() is ready for matrices of
+       * @p pattern. With one process only the pattern is made.
+       */
+      void
+      reinit(dealii::DynamicSparsityPattern &entries, dealii::SparsityPattern &pattern, const unsigned int block = 1);
+
+      /// Collective. @p matrix (of reinit()'s pattern) summed over the
+      /// processes in this process's own rows; the other rows set to NaN, so
+      /// that a reader of rows not its own fails at once.
+      void
+      sum(dealii::SparseMatrix<double> &matrix) const;
+
+    private:
+      /// Process q's rows are the entries [first_entry[q], first_entry[q + 1]) of the value array.
+      std::vector<std::size_t> first_entry;
+      /// For each process, where the entries it sends add in this one's value array.
+      std::vector<std::vector<std::size_t>> received;
+    };
 
     /// The values of @p matrix as one array in its pattern's order (the
     /// entry of linear index k at [k]); null for a matrix without entries.
@@ -125,9 +156,21 @@ namespace dieflow
 
     /// The rows of an @p n x @p n system this process owns in a distributed
     /// solve: a contiguous block, [n r / P, n (r + 1) / P) on process r,
-    /// its ends rounded down to multiples of @p block (@p n one itself).
+    /// its ends rounded down to multiples of @p block (@p n one itself);
+    /// for the size own_rows_by_part() was last given, the blocks it gave.
     dealii::IndexSet
     owned_rows(const dealii::types::global_dof_index n, const unsigned int block = 1);
+
+    /**
+     * Collective. From now on, the rows of an n x n system with n the sum
+     * of @p rows_of_part are owned in the order of the ranks, process r the
+     * next rows_of_part[r] (the flow's dofs numbered by the cells' parts,
+     * DoFRenumbering::subdomain_wise: the rows of a process's cells then
+     * are its own, but at its part's border); other sizes as before. Every
+     * process must give the same.
+     */
+    void
+    own_rows_by_part(const std::vector<dealii::types::global_dof_index> &rows_of_part);
 
     /// Where each process holds the entries of its owned_rows(v.size(),
     /// @p block) in @p v, gives every process all of them (the same bits
@@ -143,6 +186,20 @@ namespace dieflow
     template <int dim>
     void
     partition(dealii::Triangulation<dim> &triangulation);
+
+    /**
+     * Collective. partition() and @p dof_handler's dofs of @p fe, on P > 1
+     * numbered part by part (DoFRenumbering::subdomain_wise; an interface
+     * dof goes with the part of smaller id), each part's block of rows its
+     * process's own (own_rows_by_part()): its cells then add to its own
+     * rows but at its part's border, and it stores its rows of a matrix
+     * alone (RowSums). The same mesh gets the same numbering again (METIS
+     * is deterministic), so a vector carried over a call (a refinement's
+     * transfer, a free surface's move) keeps its meaning.
+     */
+    template <int dim>
+    void
+    distribute_dofs(dealii::DoFHandler<dim> &dof_handler, const dealii::FiniteElement<dim> &fe);
 
     /// Whether this process assembles @p cell (its part).
     template <typename CellIterator>

@@ -2,6 +2,7 @@
 #ifndef dieflow_flow_assembler_h
 #define dieflow_flow_assembler_h
 
+#include <dieflow/base/processes.h>
 #include <dieflow/mesh/coordinate_system.h>
 #include <dieflow/flow/material.h>
 #include <dieflow/solvers/linearization.h>
@@ -70,20 +71,6 @@ namespace dieflow
     /// matrix term lambda B^T M^-1 B stays out of the matrix, which is then
     /// the velocity block A, and its blocks go here.
     MixedPenalty<dim> *mixed = nullptr;
-  };
-
-
-
-  /**
-   * Which rows of an assembled matrix hold the whole sums on P > 1
-   * processes (processes.h): every row on every process, or each process's
-   * own rows only (processes::sum_own_rows()): the Newton system, which
-   * only the linear solvers read, and they read their own rows.
-   */
-  enum class MatrixRows
-  {
-    all,
-    own
   };
 
 
@@ -200,7 +187,9 @@ namespace dieflow
      * system, not to the raw residual. @p terms: the penalty's state and
      * the hardening; with terms.mixed (velocity degree 2 only), @p matrix
      * is the velocity block A and the penalty's blocks go to terms.mixed
-     * (the residual is unchanged).
+     * (the residual is unchanged). On P > 1 processes the matrix is summed
+     * by @p row_sums where given (each process's own rows; its pattern
+     * that of RowSums::reinit()), else in every row (a pattern of all).
      */
     void
     assemble_system(const DoFHandler<dim> &           dof_handler,
@@ -212,7 +201,7 @@ namespace dieflow
                     Vector<double> &                  rhs,
                     Vector<double> &                  raw_residual,
                     const RowTransforms *             transforms = nullptr,
-                    const MatrixRows                  rows       = MatrixRows::all) const;
+                    const processes::RowSums *        row_sums   = nullptr) const;
 
     /// As assemble_system() without the matrix: rhs = -R(v) condensed, and the raw R(v).
     void
@@ -239,7 +228,7 @@ namespace dieflow
              Vector<double> &                  rhs,
              Vector<double> &                  raw_residual,
              const RowTransforms *             transforms,
-             const MatrixRows                  rows) const;
+             const processes::RowSums *        row_sums) const;
 
     unsigned int
     n_dual_points(const DoFHandler<dim> &dof_handler) const;

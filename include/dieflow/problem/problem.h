@@ -24,7 +24,6 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/sparse_matrix.h>
-#include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
 
 #include <map>
@@ -222,6 +221,7 @@ namespace dieflow
     AffineConstraints<double>    hanging_node_constraints, constraints, update_constraints, prescribed_constraints;
     std::vector<WallNode<dim>>   wall_nodes;
     dealii::SparsityPattern      sparsity_pattern;
+    processes::RowSums           row_sums; ///< on P > 1 the matrix stored and summed by rows
     dealii::SparseMatrix<double> system_matrix;
     Vector<double>               system_rhs;
     Vector<double>               velocity;

@@ -2,6 +2,8 @@
 #ifndef dieflow_mixed_penalty_h
 #define dieflow_mixed_penalty_h
 
+#include <dieflow/base/processes.h>
+
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
@@ -49,7 +51,8 @@ namespace dieflow
     clear_values();
 
     /// After an assembly in which each MPI process set its own cells: the
-    /// sums, the whole blocks on every process (processes::sum()).
+    /// sums, the whole blocks on every process (processes::sum()) but B^T,
+    /// summed into and held in each process's own rows (processes::RowSums).
     void
     sum_over_processes();
 
@@ -88,13 +91,15 @@ namespace dieflow
     dealii::SparsityPattern      divergence_pattern, gradient_pattern;
     /// B (n_pressure x n_dofs).
     dealii::SparseMatrix<double> divergence;
-    /// B^T, rows transformed and condensed (n_dofs x n_pressure).
+    /// B^T, rows transformed and condensed (n_dofs x n_pressure); on P > 1
+    /// each process's own rows (its pattern RowSums's).
     dealii::SparseMatrix<double> gradient;
     /// lambda_K, eta_K, h_K.
     dealii::Vector<double> penalty, viscosity, size;
 
   private:
     std::vector<double> masses, inverse_masses;
+    processes::RowSums  gradient_sums;
   };
 } // namespace dieflow
 

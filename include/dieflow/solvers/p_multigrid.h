@@ -2,6 +2,7 @@
 #ifndef dieflow_p_multigrid_h
 #define dieflow_p_multigrid_h
 
+#include <dieflow/base/processes.h>
 #include <dieflow/solvers/rigid_body_modes.h>
 #include <dieflow/solvers/row_blocks.h>
 
@@ -9,6 +10,7 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/precondition.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
@@ -22,17 +24,29 @@
 namespace dieflow
 {
   /**
+   * Into @p entries (n_c x n_c), the entries of P^T A P (P: @p embedding)
+   * that this process's block of fine rows (processes::owned_rows()) adds,
+   * whatever the constraints: for a fine row i, the columns of P's row i
+   * times those of (A P)'s row i. @p A must hold those rows whole.
+   */
+  void
+  galerkin_entries(const dealii::SparsityPattern &A, const dealii::SparsityPattern &embedding,
+                   dealii::DynamicSparsityPattern &entries);
+
+  /**
    * @p coarse_matrix = P^T D A D P (P: @p embedding, D = diag(@p free)),
-   * into @p coarse_matrix's pattern, which must hold that of deal.II's
-   * product (SparseMatrix::mmult, then Tmmult): each MPI process sums the
-   * terms of its block of fine rows (processes::owned_rows()), and the
-   * partial products are summed over the processes, the same bits on every
-   * process (processes.h).
+   * into @p coarse_matrix's pattern, which must hold the entries that each
+   * process's fine rows add (galerkin_entries(); on one process deal.II's
+   * product's pattern, SparseMatrix::mmult then Tmmult, holds them): each
+   * MPI process sums the terms of its block of fine rows
+   * (processes::owned_rows()), and @p sums sums the partial products into
+   * each process's own coarse rows (RowSums::sum()).
    */
   void
   galerkin_product(const dealii::SparseMatrix<double> &A,
                    const dealii::SparseMatrix<double> &embedding,
                    const dealii::Vector<double> &      free,
+                   const processes::RowSums &          sums,
                    dealii::SparseMatrix<double> &      coarse_matrix);
 
 
@@ -95,8 +109,12 @@ namespace dieflow
     std::vector<dealii::types::global_dof_index> vertex_dof;
     dealii::SparsityPattern                   embedding_pattern;
     dealii::SparseMatrix<double>              embedding;
-    /// Kept per mesh; the matrices A P and A_1 hold values only during initialize().
+    /// Kept per mesh; the matrices A P and A_1 hold values only during
+    /// initialize(). On P > 1 processes A_1's pattern is each process's
+    /// own coarse rows whole and its fine rows' entries in the others'
+    /// (coarse_sums), and A P is never formed.
     dealii::SparsityPattern                   product_pattern, coarse_pattern;
+    processes::RowSums                        coarse_sums;
     dealii::SparseMatrix<double>              product, coarse_matrix;
     bool                                      patterns_built = false;
     dealii::Vector<double>                    free;

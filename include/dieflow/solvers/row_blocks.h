@@ -26,7 +26,7 @@ namespace dieflow
    * saved (doc/parallel.md). The matrix interface PreconditionChebyshev
    * (which subscribes to it) and the Krylov solvers need (m(), el(),
    * vmult()). Only this process's rows of M are read: the system matrix
-   * holds sums in no others (processes::sum_own_rows()).
+   * holds sums in no others (processes::RowSums).
    */
   class RowBlockMatrix : public dealii::Subscriptor
   {
@@ -101,7 +101,8 @@ namespace dieflow
    * @p pde_equations rows) in a distributed Trilinos matrix, ML's hierarchy
    * over all of them, the cycle's result gathered. With @p pde_equations
    * > 1 a process's block of rows is rounded to whole nodes: the matrix
-   * must hold its sums in every row (processes::sum(), not sum_own_rows()).
+   * must hold its sums in the rows owned_rows(m, pde_equations) gives
+   * (RowSums::reinit() with that block), or in every row.
    */
   class RowBlockAMG
   {

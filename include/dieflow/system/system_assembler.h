@@ -49,13 +49,14 @@ namespace dieflow
   class SystemAssembler
   {
   public:
-    /// @p matrix_rows: the rows of the assembled J that hold the whole sums
-    /// on P > 1 (MatrixRows::own where only the linear solvers read it).
+    /// @p row_sums: on P > 1, how J is summed into each process's own rows
+    /// (its pattern RowSums::reinit()'s; where only the linear solvers read
+    /// J), or null for J's sums in every row (a pattern of all rows).
     SystemAssembler(const DoFHandler<dim> &          dof_handler,
                     const AffineConstraints<double> &update_constraints,
                     const FlowAssembler<dim> &       flow,
                     const ContactSet<dim> &          contact,
-                    const MatrixRows                 matrix_rows = MatrixRows::all);
+                    const processes::RowSums *       row_sums = nullptr);
 
     /**
      * J (if @p matrix) and -R at @p v into @p minus_residual, condensed;
@@ -132,7 +133,7 @@ namespace dieflow
     const AffineConstraints<double> &update_constraints;
     const FlowAssembler<dim> &       flow;
     const ContactSet<dim> &          contact;
-    const MatrixRows                 matrix_rows;
+    const processes::RowSums *       row_sums;
     Vector<double>                   raw;
     Counts                           assembly_counts;
   };
