@@ -1,6 +1,7 @@
 """Strong scaling of a deck on this machine: one process of 1 and of 2
 threads against 2 processes of 1 thread (mpirun), from each run's
-summary.json: wall time, the stages (assembly, linear solve, ...), Newton
+summary.json: wall time, the stages (assembly, linear solve and the
+solvers' set-up within it, ...), Newton
 iterations, the largest process's peak memory, the ram force's gap
 from the first run's, and the last cycle's linear solver with its direct
 fallbacks (doc/parallel.md).
@@ -45,8 +46,8 @@ DECK = args.pop(0) if args and not args[0].startswith("--") else os.path.join(RO
 changes = [args[i + 1] for i in range(len(args)) if args[i] == "--set"]
 text = deck_text(DECK, changes)
 print("%s %s" % (os.path.relpath(DECK, ROOT), "; ".join(changes)))
-print("| processes x threads | dofs (last cycle) | Newton its | wall [s] | assembly [s] | linear solve [s] | rest [s] | peak memory, largest process [MB] | F_x[1] against the first | linear solver (last cycle) |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+print("| processes x threads | dofs (last cycle) | Newton its | wall [s] | assembly [s] | linear solve [s] | of which set-up [s] | rest [s] | peak memory, largest process [MB] | F_x[1] against the first | linear solver (last cycle) |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
 first = None
 with tempfile.TemporaryDirectory() as scratch:
     for processes, threads in [(1, 1), (1, 2), (2, 1)]:
@@ -57,8 +58,9 @@ with tempfile.TemporaryDirectory() as scratch:
         first = first if first is not None else force
         rest = s["wall_time"] - stages.get("assembly", 0) - stages.get("linear solve", 0)
         solver = last["linear_solver"]
-        print("| %d x %d%s | %d | %d | %.2f | %.2f | %.2f | %.2f | %.0f | %.1e | %s, %d direct fallbacks |" % (
+        setup = sum(c["linear_solver"]["setup_wall_time"] for c in s["cycles"])
+        print("| %d x %d%s | %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.1e | %s, %d direct fallbacks |" % (
             processes, threads, "" if status == 0 else " (exit %d)" % status, last["dofs"],
             sum(c["nonlinear_iterations"] for c in s["cycles"]), s["wall_time"], stages.get("assembly", 0),
-            stages.get("linear solve", 0), rest, s["peak_memory_mb"], abs(force / first - 1), solver["method"],
-            solver["direct_fallbacks"]))
+            stages.get("linear solve", 0), setup, rest, s["peak_memory_mb"], abs(force / first - 1),
+            solver["method"], solver["direct_fallbacks"]))

@@ -369,6 +369,7 @@ namespace dieflow
     const bool partial_step = !info.converged && info.residual_reduction <= 0.1 &&
                               !linear_solver.direct_fallback_fits(dim, matrix, symmetric);
     linear_solver.counts.add_block_solve(info.iterations, info.inner_iterations, info.residual_reduction, partial_step);
+    linear_solver.counts.setup_seconds += info.setup_seconds;
     std::ostringstream line;
     line << "           GMRES " << info.iterations << " iterations, residual " << std::scientific << std::setprecision(1)
          << info.residual_reduction << " of its start (asked " << tolerance << ")"

@@ -253,7 +253,7 @@ namespace dieflow
             {"inner_iterations", l.inner_iterations}, {"residual_decades", number(l.residual_decades)},
             {"direct_fallbacks", l.direct_fallbacks}, {"partial_steps", l.partial_steps},
             {"reused_solves", l.reused_solves}, {"reuse_iterations", l.reuse_iterations},
-            {"reuse_refactorised", l.reuse_refactorised}}},
+            {"reuse_refactorised", l.reuse_refactorised}, {"setup_wall_time", number(l.setup_seconds)}}},
           {"boundary_force", object(s.boundary_force, numbers)}, {"flux", object(s.flux, number)},
           {"boundary_area", object(s.boundary_area, number)}, {"die_normal_force", object(s.die_normal_force, number)},
           {"die_friction_force", object(s.die_friction_force, number)},

@@ -3,6 +3,7 @@
 
 #include <dieflow/base/processes.h>
 
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
@@ -110,8 +111,12 @@ namespace dieflow
 
     if (processes::n() > 1)
       return solve_across_processes(matrix, symmetric, rhs, solution, target, max_iterations);
+    const dealii::Timer setup;
     preconditioner.initialize(matrix, velocity_amg_data(constant_modes, false));
-    return krylov(matrix, symmetric, rhs, solution, preconditioner, target, max_iterations);
+    const double setup_seconds = setup.wall_time();
+    info                       = krylov(matrix, symmetric, rhs, solution, preconditioner, target, max_iterations);
+    info.setup_seconds         = setup_seconds;
+    return info;
   }
 
 
@@ -128,15 +133,18 @@ namespace dieflow
     // The operator as it is (no entry dropped: the Krylov method multiplies
     // with it), its pattern made afresh: on a pattern it knows, Trilinos's
     // copy would keep the old value where the new one is zero.
+    const dealii::Timer setup;
     preconditioner.clear();
     distributed_matrix.clear();
     distributed_matrix.reinit(rows, rows, matrix, processes::communicator(), 0.);
     preconditioner.initialize(distributed_matrix, velocity_amg_data(constant_modes, false));
+    const double setup_seconds = setup.wall_time();
     dealii::TrilinosWrappers::MPI::Vector b(rows, processes::communicator()), x(b);
     for (const auto row : rows)
       b[row] = rhs[row];
     b.compress(dealii::VectorOperation::insert);
-    const IterativeSolveInfo info = krylov(distributed_matrix, symmetric, b, x, preconditioner, target, max_iterations);
+    IterativeSolveInfo info = krylov(distributed_matrix, symmetric, b, x, preconditioner, target, max_iterations);
+    info.setup_seconds      = setup_seconds;
     for (const auto row : rows)
       solution[row] = x[row];
     processes::gather(solution);

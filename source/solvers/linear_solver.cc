@@ -7,6 +7,7 @@
 #include <suitesparse/cholmod.h>
 #include <suitesparse/umfpack.h>
 
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
 
@@ -139,6 +140,16 @@ namespace dieflow
   void
   LinearSolver::factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
+    // Counted as the solver's set-up, however the factorisation ends.
+    struct SetupTime
+    {
+      double &            total;
+      const dealii::Timer timer;
+      ~SetupTime()
+      {
+        total += timer.wall_time();
+      }
+    } setup_time{counts.setup_seconds, {}};
     if (processes::n() > 1)
       {
         // Across the processes: MUMPS's LU (its memory divided among them,
@@ -312,6 +323,7 @@ namespace dieflow
       iterative_solver->solve(matrix, symmetric, rhs, solution, parameters.iterative_tolerance, parameters.max_augmented_iterations);
     ++counts.iterative_solves;
     counts.krylov_iterations += info.iterations;
+    counts.setup_seconds += info.setup_seconds;
     if (info.converged)
       return;
     require_direct_fallback_fits(dim, matrix, symmetric);

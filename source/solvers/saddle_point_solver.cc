@@ -1,6 +1,7 @@
 // The mixed form's update equation by block-preconditioned GMRES: a multigrid cycle for the velocity block, a scaled mass for the Schur complement.
 #include <dieflow/solvers/saddle_point_solver.h>
 
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/block_vector.h>
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
@@ -265,10 +266,12 @@ namespace dieflow
     // One V-cycle: two cut the outer iterations but cost more time than
     // they save (doc/benchmarks.md, "Figures behind the code's rules").
     PMultigrid<dim> *const cycle = p_multigrid.get();
+    const dealii::Timer    setup;
     if (cycle != nullptr)
       cycle->initialize(velocity_block, constraints, flow);
     else
       velocity_preconditioner.initialize<dim>(A, modes, velocity_amg_data({}, true));
+    info.setup_seconds = setup.wall_time();
     const VelocityBlockInverse<dim> velocity_inverse(op.A, velocity_preconditioner, cycle, symmetric, inner_tolerance,
                                                      max_inner_iterations);
     const BlockTriangularPreconditioner<dim> preconditioner(op, velocity_inverse);

@@ -16,6 +16,8 @@ namespace dieflow
   {
     bool         converged  = false;
     unsigned int iterations = 0;
+    /// The preconditioner's set-up, wall time.
+    double setup_seconds = 0;
   };
 
   /// Initialises MPI if nobody has (Trilinos needs it even for one

@@ -68,6 +68,11 @@ namespace dieflow
     unsigned int reused_solves       = 0;
     unsigned int reuse_iterations    = 0;
     unsigned int reuse_refactorised  = 0;
+    /// The solvers' set-ups, wall time within the linear solves: the
+    /// direct solver's factorisations (ordering, symbolic and numeric), the
+    /// iterative solvers' preconditioners (ML's hierarchies, p-multigrid's
+    /// Galerkin operator and Chebyshev's eigenvalue estimate).
+    double setup_seconds = 0;
 
     /// Counts one iterative solve of the mixed form: its outer and inner
     /// iterations, the decades its residual fell by (@p residual_reduction:

@@ -67,6 +67,8 @@ namespace dieflow
       unsigned int inner_iterations = 0;
       /// The scaled residual at the end over the scaled right-hand side.
       double residual_reduction = 1;
+      /// The velocity block's preconditioner's set-up, wall time.
+      double setup_seconds = 0;
     };
 
     /**
