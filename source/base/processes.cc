@@ -353,12 +353,18 @@ namespace dieflow
       // 2. The pattern's rows of each other process as stored (its diagonal
       // first where square), one length per row, then the columns: the
       // owner finds where each value sum() sends adds in its own array.
+      // (Counted by rows: an empty row's iterator is no valid entry, which
+      // a Debug build stops at, and a rectangular pattern's others' rows
+      // are mostly empty.)
       first_entry.assign(n_processes + 1, 0);
-      const auto entry_of_row = [&](const dealii::types::global_dof_index row) -> std::size_t {
-        return row == m ? pattern.n_nonzero_elements() : pattern.begin(row)->global_index();
-      };
+      std::size_t                     counted = 0;
+      dealii::types::global_dof_index row     = 0;
       for (unsigned int q = 0; q <= n_processes; ++q)
-        first_entry[q] = entry_of_row(first[q]);
+        {
+          for (; row < first[q]; ++row)
+            counted += pattern.row_length(row);
+          first_entry[q] = counted;
+        }
       for (unsigned int q = 0; q < n_processes; ++q)
         {
           outgoing[q].clear();
