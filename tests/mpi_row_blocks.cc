@@ -3,15 +3,21 @@
 // The program launches itself under mpirun on 2 and 3 processes (tests/mpi_runs.h
 // sets Open MPI up for root). Each process builds the same random matrices
 // and vectors (one seed), then checks:
-//  - RowBlockMatrix's vmult, vmult_add and residual (each process multiplies
-//    its block of rows, the blocks gathered) against deal.II's product of
+//  - RowBlockMatrix's vmult, vmult_add and residual on distributed vectors
+//    (each process computes its entries from its rows, the entries of x
+//    they read from other processes imported; the results gathered by
+//    RowLayout::gather) against deal.II's product of
 //    the whole matrix, row by row within 1e-13 of sum_j |M_ij x_j| (the
 //    same terms, vmult_add's added in another order; the bound also leaves
 //    room for a compiler that contracts them into fused multiply-adds), on
 //    a square matrix, a rectangular one with empty rows (the mixed form's B
 //    and B^T have the pressure's and the velocity's shapes), one whose first
 //    200 rows are empty and one of 2 rows (on 3 processes the first owns
-//    none); and the same bits on every process (processes::require_same);
+//    none); the rectangular one and its transpose also with the rows (the
+//    columns) in groups of 7 held by random processes, as the pressure
+//    modes by their cells' parts (RowLayout::reinit_groups: extract and
+//    gather through it); and the same bits on every process
+//    (processes::require_same);
 //  - galerkin_product (p-multigrid's coarse operator P^T D A D P, each
 //    process summing its block of fine rows into the pattern of
 //    galerkin_entries(), the sums into each process's coarse rows by
@@ -21,8 +27,8 @@
 //    another order), NaN in the other rows, on random A (1001 x 1001), P
 //    (1001 x 240) and D (a fifth of the rows constrained; the pattern built
 //    with none, as on a mesh whose contact set changes);
-//  - RowBlockMatrix's products and diagonal (el(i, i), what Chebyshev
-//    reads) on a square matrix summed by RowSums (NaN in the rows a
+//  - RowBlockMatrix's products and inverse diagonal (what Chebyshev is
+//    given) on a square matrix summed by RowSums (NaN in the rows a
 //    process does not own: a product that read them would be NaN) against
 //    deal.II's of the whole matrix;
 //  - processes::sum of vectors of 1, 2, 5 and 1,001 entries (fewer entries
@@ -134,50 +140,81 @@ namespace
       }
   }
 
+  /// @p layout for @p n entries: blocks of rows (@p group 0), or groups of
+  /// @p group entries each held by a random process (the same on all: one
+  /// seed), as the mixed form's pressure modes by their cells' parts.
+  void
+  make_layout(RowLayout &layout, const unsigned int n, const unsigned int group, std::mt19937 &random)
+  {
+    if (group == 0)
+      {
+        layout.reinit_rows(n);
+        return;
+      }
+    std::uniform_int_distribution<unsigned int> process(0, processes::n() - 1);
+    std::vector<unsigned int>                   owner(n / group);
+    for (auto &q : owner)
+      q = process(random);
+    layout.reinit_groups(owner, group);
+  }
+
   /// The checks on one matrix; one line each into @p out. RowBlockMatrix
   /// multiplies with @p summed where given (M summed by RowSums: M
-  /// in this process's rows, NaN in the others), else with M.
+  /// in this process's rows, NaN in the others), else with M; its rows
+  /// and columns divided as make_layout() with @p row_group and
+  /// @p column_group. The distributed results are gathered whole.
   void
   check_products(const std::string &         name,
                  const SparseMatrix<double> &M,
                  std::mt19937 &              random,
                  std::ostream &              out,
-                 const SparseMatrix<double> *summed = nullptr)
+                 const SparseMatrix<double> *summed       = nullptr,
+                 const unsigned int          row_group    = 0,
+                 const unsigned int          column_group = 0)
   {
     const Vector<double> x = random_vector(M.n(), random), y0 = random_vector(M.m(), random),
                          b = random_vector(M.m(), random);
-    const RowBlockMatrix rows(summed != nullptr ? *summed : M);
+    RowLayout            rows, columns;
+    make_layout(rows, M.m(), row_group, random);
+    make_layout(columns, M.n(), column_group, random);
+    RowBlockMatrix product;
+    product.reinit(summed != nullptr ? *summed : M, rows, columns);
+    DistributedVector x_part, y_part, b_part;
+    columns.extract(x, x_part);
 
     Vector<double> y, z(M.m());
-    rows.vmult(y, x);
+    product.vmult(y_part, x_part);
+    rows.gather(y_part, y);
     M.vmult(z, x);
     // Every process takes part in the comparison (a collective) first.
     bool same = same_everywhere(y);
     out << name << ": vmult as deal.II's: " << (same && agrees(y, z, M, x) ? "ok" : "FAILS") << "\n";
 
-    y = y0;
+    rows.extract(y0, y_part);
     z = y0;
-    rows.vmult_add(y, x);
+    product.vmult_add(y_part, x_part);
+    rows.gather(y_part, y);
     M.vmult_add(z, x);
     same = same_everywhere(y);
     out << name << ": vmult_add as deal.II's: " << (same && agrees(y, z, M, x) ? "ok" : "FAILS") << "\n";
 
     if (M.m() == M.n())
       {
-        rows.residual(y, x, b);
+        rows.extract(b, b_part);
+        product.residual(y_part, x_part, b_part);
+        rows.gather(y_part, y);
         M.residual(z, x, b);
         same = same_everywhere(y);
         out << name << ": residual as deal.II's: " << (same && agrees(y, z, M, x) ? "ok" : "FAILS") << "\n";
-        // The diagonal PreconditionChebyshev reads, whole on every process.
-        Vector<double> diagonal(M.m());
-        bool           exact = true;
+        // The inverse diagonal Chebyshev is given, in each process's rows.
+        Vector<double> diagonal;
+        product.inverse_diagonal(y_part);
+        rows.gather(y_part, diagonal);
+        bool exact = true;
         for (unsigned int i = 0; i < M.m(); ++i)
-          {
-            diagonal[i] = rows.el(i, i);
-            exact       = exact && diagonal[i] == M.el(i, i);
-          }
+          exact = exact && diagonal[i] == 1. / M.el(i, i);
         same = same_everywhere(diagonal);
-        out << name << ": el(i, i) as deal.II's: " << (same && exact ? "ok" : "FAILS") << "\n";
+        out << name << ": inverse diagonal as deal.II's: " << (same && exact ? "ok" : "FAILS") << "\n";
       }
   }
 
@@ -248,6 +285,14 @@ namespace
     check_products("square 1001 x 1001", A, random, out);
     check_products("rectangular 301 x 1001, every 7th row empty", B, random, out);
     check_products("its transpose 1001 x 301", BT, random, out);
+    {
+      // (a generator of their own: the later checks' matrices stay those of the other lines)
+      std::mt19937 groups_random(7);
+      check_products("rectangular 301 x 1001, its rows in groups of 7 on random processes", B, groups_random, out,
+                     nullptr, 7);
+      check_products("its transpose 1001 x 301, its columns in groups of 7 on random processes", BT, groups_random, out,
+                     nullptr, 0, 7);
+    }
     check_products("500 x 499, rows 0-199 empty", C, random, out);
     check_products("2 x 1001", D, random, out);
     {

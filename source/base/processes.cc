@@ -242,46 +242,53 @@ namespace dieflow
         return r == n_processes ? n :
                                   static_cast<dealii::types::global_dof_index>(block * ((blocks * r) / n_processes));
       }
-
-      /**
-       * Sends @p outgoing[q] to each process q and returns what each sent
-       * to this one (collective; the lengths first, then the messages,
-       * all in flight at once).
-       */
-      std::vector<std::vector<std::uint64_t>>
-      exchange(const std::vector<std::vector<std::uint64_t>> &outgoing)
-      {
-        std::vector<std::uint64_t> sending(n_processes), receiving(n_processes);
-        for (unsigned int q = 0; q < n_processes; ++q)
-          sending[q] = outgoing[q].size();
-        MPI_Alltoall(sending.data(), 1, MPI_UINT64_T, receiving.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
-        std::vector<std::vector<std::uint64_t>> incoming(n_processes);
-        std::vector<MPI_Request>                requests;
-        for (unsigned int q = 0; q < n_processes; ++q)
-          {
-            if (q == this_rank)
-              continue;
-            if (receiving[q] > std::uint64_t(std::numeric_limits<int>::max()) ||
-                sending[q] > std::uint64_t(std::numeric_limits<int>::max()))
-              throw std::runtime_error("processes::RowSums: a pattern's border of more than 2^31 entries");
-            incoming[q].resize(receiving[q]);
-            if (receiving[q] > 0)
-              {
-                requests.emplace_back();
-                MPI_Irecv(incoming[q].data(), static_cast<int>(receiving[q]), MPI_UINT64_T, static_cast<int>(q), 0,
-                          MPI_COMM_WORLD, &requests.back());
-              }
-            if (sending[q] > 0)
-              {
-                requests.emplace_back();
-                MPI_Isend(outgoing[q].data(), static_cast<int>(sending[q]), MPI_UINT64_T, static_cast<int>(q), 0,
-                          MPI_COMM_WORLD, &requests.back());
-              }
-          }
-        MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-        return incoming;
-      }
     } // namespace
+
+
+
+    std::vector<std::vector<std::uint64_t>>
+    exchange(const std::vector<std::vector<std::uint64_t>> &outgoing)
+    {
+      std::vector<std::uint64_t> sending(n_processes), receiving(n_processes);
+      for (unsigned int q = 0; q < n_processes; ++q)
+        sending[q] = outgoing[q].size();
+      MPI_Alltoall(sending.data(), 1, MPI_UINT64_T, receiving.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+      // Agreed by every process before any message is posted: one that
+      // stopped alone would leave the others waiting.
+      int too_long = 0;
+      for (unsigned int q = 0; q < n_processes; ++q)
+        if (receiving[q] > std::uint64_t(std::numeric_limits<int>::max()) ||
+            sending[q] > std::uint64_t(std::numeric_limits<int>::max()))
+          too_long = 1;
+      MPI_Allreduce(MPI_IN_PLACE, &too_long, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+      if (too_long != 0)
+        throw std::runtime_error("processes::exchange: a message of more than 2^31 entries between two processes");
+      std::vector<std::vector<std::uint64_t>> incoming(n_processes);
+      std::vector<MPI_Request>                requests;
+      for (unsigned int q = 0; q < n_processes; ++q)
+        {
+          if (q == this_rank)
+            continue;
+          incoming[q].resize(receiving[q]);
+          if (receiving[q] > 0)
+            {
+              requests.emplace_back();
+              MPI_Irecv(incoming[q].data(), static_cast<int>(receiving[q]), MPI_UINT64_T, static_cast<int>(q), 0,
+                        MPI_COMM_WORLD, &requests.back());
+            }
+          if (sending[q] > 0)
+            {
+              requests.emplace_back();
+              MPI_Isend(outgoing[q].data(), static_cast<int>(sending[q]), MPI_UINT64_T, static_cast<int>(q), 0,
+                        MPI_COMM_WORLD, &requests.back());
+            }
+        }
+      MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+      return incoming;
+    }
+
+
+
 
 
 

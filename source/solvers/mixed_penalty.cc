@@ -44,6 +44,10 @@ namespace dieflow
     gradient_sums.reinit(bt, gradient_pattern);
     divergence.reinit(divergence_pattern);
     gradient.reinit(gradient_pattern);
+    part.assign(n_cells, 0);
+    if (processes::n() > 1)
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        part[cell->active_cell_index()] = cell->subdomain_id();
     masses.assign(n_cells * n_modes * n_modes, 0.);
     inverse_masses.assign(n_cells * n_modes * n_modes, 0.);
     penalty.reinit(n_cells);
@@ -109,25 +113,31 @@ namespace dieflow
 
   namespace
   {
+    /// dst_k = factor_c K_c src_k for the k-th cell (c = cells[k], or k
+    /// where @p cells is null), K_c the cell's block of @p blocks, on
+    /// @p n_cells cells of n_modes entries each (in place allowed).
     void
     block_diagonal_vmult(const std::vector<double> &   blocks,
                          const unsigned int            n_modes,
-                         dealii::Vector<double> &      dst,
-                         const dealii::Vector<double> &src,
+                         const std::size_t             n_cells,
+                         const unsigned int *          cells,
+                         double *                      dst,
+                         const double *                src,
                          const dealii::Vector<double> &factor)
     {
-      if (dst.size() != src.size())
-        dst.reinit(src.size());
-      for (unsigned int c = 0; c < factor.size(); ++c)
+      std::vector<double> sum(n_modes);
+      for (std::size_t k = 0; k < n_cells; ++k)
         {
-          const double *K = &blocks[c * n_modes * n_modes];
+          const std::size_t c = cells != nullptr ? cells[k] : k;
+          const double *    K = &blocks[c * n_modes * n_modes];
           for (unsigned int m = 0; m < n_modes; ++m)
             {
-              double sum = 0;
+              sum[m] = 0;
               for (unsigned int n = 0; n < n_modes; ++n)
-                sum += K[m * n_modes + n] * src[c * n_modes + n];
-              dst[c * n_modes + m] = factor[c] * sum;
+                sum[m] += K[m * n_modes + n] * src[k * n_modes + n];
             }
+          for (unsigned int m = 0; m < n_modes; ++m)
+            dst[k * n_modes + m] = factor[c] * sum[m];
         }
     }
   } // namespace
@@ -140,7 +150,9 @@ namespace dieflow
                                 const dealii::Vector<double> &src,
                                 const dealii::Vector<double> &factor) const
   {
-    block_diagonal_vmult(masses, n_modes, dst, src, factor);
+    if (dst.size() != src.size())
+      dst.reinit(src.size());
+    block_diagonal_vmult(masses, n_modes, factor.size(), nullptr, dst.begin(), src.begin(), factor);
   }
 
 
@@ -151,8 +163,27 @@ namespace dieflow
                                         const dealii::Vector<double> &src,
                                         const dealii::Vector<double> &factor) const
   {
-    block_diagonal_vmult(inverse_masses, n_modes, dst, src, factor);
+    if (dst.size() != src.size())
+      dst.reinit(src.size());
+    block_diagonal_vmult(inverse_masses, n_modes, factor.size(), nullptr, dst.begin(), src.begin(), factor);
   }
+
+  template <int dim>
+  void
+  MixedPenalty<dim>::cell_vmult(const CellBlock               which,
+                                DistributedVector &           dst,
+                                const DistributedVector &     src,
+                                const dealii::Vector<double> &factor,
+                                const RowLayout &             pressure) const
+  {
+    AssertDimension(pressure.group_size(), n_modes);
+    if (dst.size() != src.size())
+      pressure.reinit(dst);
+    block_diagonal_vmult(which == CellBlock::mass ? masses : inverse_masses, n_modes, pressure.groups().size(),
+                         pressure.groups().data(), dst.begin(), src.begin(), factor);
+  }
+
+
 
   template <int dim>
   dealii::Vector<double>

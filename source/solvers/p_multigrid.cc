@@ -39,17 +39,25 @@ namespace dieflow
           ++coarse_cell;
         }
     };
-    dealii::DynamicSparsityPattern pattern(dof_handler.n_dofs(), coarse_dofs.n_dofs());
-    for_each_entry([&](const auto i, const auto j, const double) { pattern.add(i, j); });
+    dealii::DynamicSparsityPattern pattern(dof_handler.n_dofs(), coarse_dofs.n_dofs()),
+      transposed(coarse_dofs.n_dofs(), dof_handler.n_dofs());
+    for_each_entry([&](const auto i, const auto j, const double) {
+      pattern.add(i, j);
+      transposed.add(j, i);
+    });
     embedding.clear();
+    restriction.clear();
     embedding_pattern.copy_from(pattern);
     embedding.reinit(embedding_pattern);
+    restriction_pattern.copy_from(transposed);
+    restriction.reinit(restriction_pattern);
     // The embedding is continuous: every cell sharing a fine dof gives it
     // the same row, so setting (not adding) is consistent. A Q1 vertex is
     // the Q2 node where its shape function is 1.
     vertex_dof.assign(coarse_dofs.n_dofs(), 0);
     for_each_entry([&](const auto i, const auto j, const double value) {
       embedding.set(i, j, value);
+      restriction.set(j, i, value);
       if (std::abs(value - 1.) < 1e-12)
         vertex_dof[j] = i;
     });
@@ -148,9 +156,14 @@ namespace dieflow
   {
     matrix                                = &A_rows;
     const dealii::SparseMatrix<double> &A = A_rows.whole();
-    free.reinit(A.m());
+    const RowLayout &                   fine  = A_rows.row_layout();
+    // Whole nodes per process on Q1, as RowBlockAMG reads its rows.
+    coarse_layout.reinit_rows(coarse_dofs.n_dofs(), dim);
+    prolongation_rows.reinit(embedding, fine, coarse_layout);
+    restriction_rows.reinit(restriction, coarse_layout, fine);
+    dealii::Vector<double> free_whole(A.m());
     for (unsigned int i = 0; i < A.m(); ++i)
-      free[i] = constraints.is_constrained(i) ? 0. : 1.;
+      free_whole[i] = constraints.is_constrained(i) ? 0. : 1.;
 
     // A_1 = P^T D A D P, D = diag(free).
     // The patterns depend on the mesh only (A's pattern and P): built once
@@ -170,7 +183,7 @@ namespace dieflow
             coarse_sums.reinit(entries, coarse_pattern, dim);
           }
         coarse_matrix.reinit(coarse_pattern);
-        galerkin_product(A, embedding, free, coarse_sums, coarse_matrix);
+        galerkin_product(A, embedding, free_whole, coarse_sums, coarse_matrix);
       }
     else
       {
@@ -188,8 +201,8 @@ namespace dieflow
             product.reinit(product_pattern);
             coarse_matrix.reinit(coarse_pattern);
           }
-        A.mmult(product, embedding, free, first);
-        embedding.Tmmult(coarse_matrix, product, free, first);
+        A.mmult(product, embedding, free_whole, first);
+        embedding.Tmmult(coarse_matrix, product, free_whole, first);
       }
     // Only the patterns are kept between set-ups: A P's values, a share of
     // the peak heap, are not needed once A_1 is formed.
@@ -214,6 +227,10 @@ namespace dieflow
     data.smoothing_range      = 15;
     data.eig_cg_n_iterations  = 12;
     data.eigenvalue_algorithm = decltype(data)::EigenvalueAlgorithm::power_iteration;
+    // The diagonal given, of this process's rows (deal.II would read
+    // every row's, whole).
+    data.preconditioner = std::make_shared<dealii::DiagonalMatrix<DistributedVector>>();
+    A_rows.inverse_diagonal(data.preconditioner->get_vector());
     smoother.initialize(A_rows, data);
 
     // The rigid-body modes, and the flow as one more where it is given.
@@ -252,9 +269,10 @@ namespace dieflow
     // (doc/benchmarks.md, "Figures behind the code's rules").
     const unsigned int prolongator_sweeps = dim == 2 ? 2 : 1;
     coarse_amg.initialize<dim>(coarse_matrix, modes, amg_data, dim, prolongator_sweeps);
-    residual.reinit(A.m());
-    coarse_residual.reinit(coarse_matrix.m());
-    coarse_correction.reinit(coarse_matrix.m());
+    fine.extract(free_whole, free);
+    fine.reinit(residual);
+    coarse_layout.reinit(coarse_residual);
+    coarse_layout.reinit(coarse_correction);
     // ML works on its own (Trilinos) copy of A_1.
     coarse_matrix.clear();
   }
@@ -263,14 +281,14 @@ namespace dieflow
 
   template <int dim>
   void
-  PMultigrid<dim>::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  PMultigrid<dim>::vmult(DistributedVector &dst, const DistributedVector &src) const
   {
     smoother.vmult(dst, src);
     matrix->residual(residual, dst, src);
     residual.scale(free);
-    embedding.Tvmult(coarse_residual, residual);
+    restriction_rows.vmult(coarse_residual, residual);
     coarse_amg.vmult(coarse_correction, coarse_residual);
-    embedding.vmult(residual, coarse_correction);
+    prolongation_rows.vmult(residual, coarse_correction);
     residual.scale(free);
     dst += residual;
     smoother.step(dst, src);

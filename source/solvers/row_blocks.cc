@@ -1,4 +1,4 @@
-// Operators of the replicated systems applied across the MPI processes: each computes its block of rows, the result gathered (a sparse matrix, an ML hierarchy).
+// The iterative solvers' operators across the MPI processes: vectors divided among them (RowLayout), products by each process's rows with the border's entries exchanged (RowBlockMatrix), an ML hierarchy.
 #include <dieflow/base/processes.h>
 #include <dieflow/solvers/rigid_body_modes.h>
 #include <dieflow/solvers/row_blocks.h>
@@ -8,6 +8,7 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include <algorithm>
+#include <cstdint>
 
 namespace dieflow
 {
@@ -20,64 +21,288 @@ namespace dieflow
     {
       return set.n_elements() > 0 ? set.nth_index_in_set(0) : 0;
     }
+
+    /// A tag of its own for the products' messages.
+    constexpr int import_tag = 17;
   } // namespace
 
 
 
-  RowBlockMatrix::RowBlockMatrix(const dealii::SparseMatrix<double> &matrix)
+  void
+  RowLayout::reinit_rows(const size_type size, const unsigned int block)
   {
-    reinit(matrix);
+    n     = size;
+    group = 1;
+    own_groups.clear();
+    owner_of_group.clear();
+    place_of_group.clear();
+    const dealii::IndexSet rows = processes::owned_rows(n, block);
+    first                       = first_index(rows);
+    local_size                  = rows.n_elements();
+    // Every process's start: each is the end of the one before (the
+    // blocks follow each other in the order of the ranks).
+    std::vector<std::uint64_t> ends(processes::n());
+    std::uint64_t              end = first + local_size;
+    if (processes::n() > 1)
+      MPI_Allgather(&end, 1, MPI_UINT64_T, ends.data(), 1, MPI_UINT64_T, processes::communicator());
+    else
+      ends[0] = end;
+    starts.assign(processes::n() + 1, 0);
+    for (unsigned int q = 0; q < processes::n(); ++q)
+      starts[q + 1] = ends[q];
+    dealii::IndexSet owned(n);
+    owned.add_range(first, first + local_size);
+    partitioner = std::make_shared<dealii::Utilities::MPI::Partitioner>(owned, processes::communicator());
   }
 
 
 
   void
-  RowBlockMatrix::reinit(const dealii::SparseMatrix<double> &m)
+  RowLayout::reinit_groups(const std::vector<unsigned int> &owner, const unsigned int group_size)
   {
-    matrix = &m;
-    diagonal.reinit(0);
-    if (processes::n() == 1)
-      return;
-    const dealii::IndexSet rows = processes::owned_rows(m.m());
-    first_row                   = first_index(rows);
-    end_row                     = first_row + rows.n_elements();
-    values                      = processes::matrix_values(m);
-    if (m.m() == m.n())
+    group = group_size;
+    n     = size_type(owner.size()) * group;
+    first = 0;
+    starts.clear();
+    owner_of_group = owner;
+    place_of_group.assign(owner.size(), 0);
+    own_groups.clear();
+    std::vector<size_type> count(processes::n(), 0);
+    for (unsigned int g = 0; g < owner.size(); ++g)
       {
-        diagonal.reinit(m.m());
-        for (size_type i = first_row; i < end_row; ++i)
-          diagonal[i] = m.el(i, i);
-        processes::gather(diagonal);
+        AssertIndexRange(owner[g], processes::n());
+        place_of_group[g] = count[owner[g]]++;
+        if (owner[g] == processes::rank())
+          own_groups.push_back(g);
+      }
+    offsets.assign(processes::n() + 1, 0);
+    for (unsigned int q = 0; q < processes::n(); ++q)
+      offsets[q + 1] = offsets[q] + count[q] * group;
+    local_size = size_type(own_groups.size()) * group;
+    dealii::IndexSet owned(n);
+    owned.add_range(offsets[processes::rank()], offsets[processes::rank() + 1]);
+    partitioner = std::make_shared<dealii::Utilities::MPI::Partitioner>(owned, processes::communicator());
+  }
+
+
+
+  unsigned int
+  RowLayout::owner(const size_type i) const
+  {
+    if (contiguous())
+      return static_cast<unsigned int>(std::upper_bound(starts.begin(), starts.end(), i) - starts.begin()) - 1;
+    return owner_of_group[i / group];
+  }
+
+
+
+  RowLayout::size_type
+  RowLayout::local_index(const size_type i) const
+  {
+    if (contiguous())
+      return i - starts[owner(i)];
+    return size_type(place_of_group[i / group]) * group + i % group;
+  }
+
+
+
+  void
+  RowLayout::reinit(DistributedVector &v) const
+  {
+    v.reinit(partitioner);
+  }
+
+
+
+  void
+  RowLayout::extract(const dealii::Vector<double> &whole, DistributedVector &v) const
+  {
+    AssertDimension(whole.size(), n);
+    if (v.size() != n)
+      reinit(v);
+    if (contiguous())
+      std::copy(whole.begin() + first, whole.begin() + first + local_size, v.begin());
+    else
+      for (size_type k = 0; k < local_size; ++k)
+        v.local_element(k) = whole[whole_index(k)];
+  }
+
+
+
+  void
+  RowLayout::gather(const DistributedVector &v, dealii::Vector<double> &whole) const
+  {
+    AssertDimension(v.locally_owned_size(), local_size);
+    if (whole.size() != n)
+      whole.reinit(n, true);
+    if (processes::n() == 1)
+      {
+        std::copy(v.begin(), v.begin() + local_size, whole.begin());
+        return;
+      }
+    std::vector<int> counts(processes::n()), displacements(processes::n());
+    for (unsigned int q = 0; q < processes::n(); ++q)
+      {
+        const size_type begin = contiguous() ? starts[q] : offsets[q], end = contiguous() ? starts[q + 1] : offsets[q + 1];
+        displacements[q] = static_cast<int>(begin);
+        counts[q]        = static_cast<int>(end - begin);
+      }
+    if (contiguous())
+      {
+        std::copy(v.begin(), v.begin() + local_size, whole.begin() + first);
+        MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, whole.data(), counts.data(), displacements.data(),
+                       MPI_DOUBLE, processes::communicator());
+        return;
+      }
+    // The parts in the order of the ranks, then each group to its place.
+    std::vector<double> parts(n);
+    MPI_Allgatherv(v.begin(), static_cast<int>(local_size), MPI_DOUBLE, parts.data(), counts.data(),
+                   displacements.data(), MPI_DOUBLE, processes::communicator());
+    for (std::size_t g = 0; g < owner_of_group.size(); ++g)
+      std::copy_n(parts.begin() + offsets[owner_of_group[g]] + size_type(place_of_group[g]) * group, group,
+                  whole.begin() + g * group);
+  }
+
+
+
+  void
+  ColumnImport::reinit(const dealii::SparsityPattern &pattern, const RowLayout &rows, const RowLayout &column_layout)
+  {
+    columns = &column_layout;
+    const unsigned int P = processes::n(), me = processes::rank();
+    send_local.assign(P, {});
+    receive_whole.assign(P, {});
+    send_buffers.assign(P, {});
+    receive_buffers.assign(P, {});
+    if (P == 1)
+      return;
+    // The columns this process's rows read that others hold, by holder
+    // (each once, in increasing order).
+    std::vector<bool>                       seen(pattern.n_cols(), false);
+    std::vector<std::vector<std::uint64_t>> wanted(P);
+    for (RowLayout::size_type k = 0; k < rows.n_local(); ++k)
+      {
+        const auto i = rows.whole_index(k);
+        for (auto entry = pattern.begin(i); entry != pattern.end(i); ++entry)
+          {
+            const auto j = entry->column();
+            if (seen[j])
+              continue;
+            seen[j]              = true;
+            const unsigned int q = column_layout.owner(j);
+            if (q != me)
+              wanted[q].push_back(j);
+          }
+      }
+    for (unsigned int q = 0; q < P; ++q)
+      {
+        std::sort(wanted[q].begin(), wanted[q].end());
+        receive_whole[q].assign(wanted[q].begin(), wanted[q].end());
+        receive_buffers[q].resize(wanted[q].size());
+      }
+    const auto asked = processes::exchange(wanted);
+    for (unsigned int q = 0; q < P; ++q)
+      {
+        send_local[q].reserve(asked[q].size());
+        for (const auto j : asked[q])
+          send_local[q].push_back(static_cast<unsigned int>(column_layout.local_index(j)));
+        send_buffers[q].resize(asked[q].size());
       }
   }
 
 
 
   void
-  RowBlockMatrix::multiply_own_rows(dealii::Vector<double> &dst, const dealii::Vector<double> &src, const bool add) const
+  ColumnImport::import(const DistributedVector &src, dealii::Vector<double> &whole) const
   {
-    if (first_row == end_row)
+    const unsigned int       P = processes::n();
+    std::vector<MPI_Request> requests;
+    for (unsigned int q = 0; q < P; ++q)
+      if (!receive_buffers[q].empty())
+        {
+          requests.emplace_back();
+          MPI_Irecv(receive_buffers[q].data(), static_cast<int>(receive_buffers[q].size()), MPI_DOUBLE,
+                    static_cast<int>(q), import_tag, processes::communicator(), &requests.back());
+        }
+    for (unsigned int q = 0; q < P; ++q)
+      if (!send_local[q].empty())
+        {
+          for (std::size_t k = 0; k < send_local[q].size(); ++k)
+            send_buffers[q][k] = src.local_element(send_local[q][k]);
+          requests.emplace_back();
+          MPI_Isend(send_buffers[q].data(), static_cast<int>(send_buffers[q].size()), MPI_DOUBLE, static_cast<int>(q),
+                    import_tag, processes::communicator(), &requests.back());
+        }
+    // This process's own entries while the messages travel.
+    const RowLayout &layout = *columns;
+    if (layout.contiguous())
+      std::copy(src.begin(), src.begin() + layout.n_local(), whole.begin() + layout.first_whole());
+    else
+      for (RowLayout::size_type k = 0; k < layout.n_local(); ++k)
+        whole[layout.whole_index(k)] = src.local_element(k);
+    MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+    for (unsigned int q = 0; q < P; ++q)
+      for (std::size_t k = 0; k < receive_whole[q].size(); ++k)
+        whole[receive_whole[q][k]] = receive_buffers[q][k];
+  }
+
+
+
+  void
+  RowBlockMatrix::reinit(const dealii::SparseMatrix<double> &m, const RowLayout &row_layout,
+                         const RowLayout &column_layout)
+  {
+    AssertDimension(m.m(), row_layout.size());
+    AssertDimension(m.n(), column_layout.size());
+    matrix = &m;
+    rows   = &row_layout;
+    values = processes::matrix_values(m);
+    whole_src.reinit(0);
+    if (processes::n() == 1)
       return;
+    import.reinit(m.get_sparsity_pattern(), row_layout, column_layout);
+    whole_src.reinit(m.n());
+  }
+
+
+
+  void
+  RowBlockMatrix::multiply(DistributedVector &dst, const DistributedVector &src, const DistributedVector *b,
+                           const Product what) const
+  {
+    if (dst.size() != matrix->m())
+      rows->reinit(dst);
+    const double *x = src.begin();
+    if (processes::n() > 1)
+      {
+        import.import(src, whole_src);
+        x = whole_src.begin();
+      }
     const dealii::SparsityPattern &pattern = matrix->get_sparsity_pattern();
-    const double *const            x       = src.begin();
     double *const                  y       = dst.begin();
+    const double *const            r       = b != nullptr ? b->begin() : nullptr;
     // The rows in chunks among this process's threads, as deal.II's own
-    // product divides them.
+    // product divides them. (deal.II's product itself reads a distributed
+    // vector through its global index, a range check per entry: slower
+    // on one process too, doc/parallel.md.)
+    const bool      contiguous = rows->contiguous();
+    const size_type first      = rows->first_whole();
     dealii::parallel::apply_to_subranges(
-      first_row,
-      end_row,
+      size_type(0),
+      rows->n_local(),
       [&](const size_type begin, const size_type end) {
-        for (size_type i = begin; i < end; ++i)
+        for (size_type k = begin; k < end; ++k)
           {
+            const size_type    i      = contiguous ? first + k : rows->whole_index(k);
             const unsigned int length = pattern.row_length(i);
-            double             sum    = add ? y[i] : 0.;
+            double             sum    = 0;
             if (length > 0)
               {
                 const double *const row = values + pattern.begin(i)->global_index();
-                for (unsigned int k = 0; k < length; ++k)
-                  sum += row[k] * x[pattern.column_number(i, k)];
+                for (unsigned int e = 0; e < length; ++e)
+                  sum += row[e] * x[pattern.column_number(i, e)];
               }
-            y[i] = sum;
+            y[k] = what == Product::set ? sum : what == Product::add ? y[k] + sum : r[k] - sum;
           }
       },
       1000);
@@ -86,48 +311,36 @@ namespace dieflow
 
 
   void
-  RowBlockMatrix::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  RowBlockMatrix::vmult(DistributedVector &dst, const DistributedVector &src) const
   {
-    if (processes::n() == 1)
-      {
-        matrix->vmult(dst, src);
-        return;
-      }
-    if (dst.size() != matrix->m())
-      dst.reinit(matrix->m());
-    multiply_own_rows(dst, src, false);
-    processes::gather(dst);
+    multiply(dst, src, nullptr, Product::set);
   }
 
 
 
   void
-  RowBlockMatrix::vmult_add(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  RowBlockMatrix::vmult_add(DistributedVector &dst, const DistributedVector &src) const
   {
-    if (processes::n() == 1)
-      {
-        matrix->vmult_add(dst, src);
-        return;
-      }
-    AssertDimension(dst.size(), matrix->m());
-    multiply_own_rows(dst, src, true);
-    processes::gather(dst);
+    multiply(dst, src, nullptr, Product::add);
   }
 
 
 
   void
-  RowBlockMatrix::residual(dealii::Vector<double> &      dst,
-                           const dealii::Vector<double> &x,
-                           const dealii::Vector<double> &b) const
+  RowBlockMatrix::residual(DistributedVector &dst, const DistributedVector &x, const DistributedVector &b) const
   {
-    if (processes::n() == 1)
-      {
-        matrix->residual(dst, x, b);
-        return;
-      }
-    vmult(dst, x);
-    dst.sadd(-1., 1., b);
+    multiply(dst, x, &b, Product::residual);
+  }
+
+
+
+  void
+  RowBlockMatrix::inverse_diagonal(DistributedVector &d) const
+  {
+    AssertDimension(matrix->m(), matrix->n());
+    rows->reinit(d);
+    for (size_type k = 0; k < rows->n_local(); ++k)
+      d.local_element(k) = 1. / matrix->diag_element(rows->whole_index(k));
   }
 
 
@@ -146,8 +359,7 @@ namespace dieflow
         return;
       }
     // Whole nodes per process: ML aggregates the pde_equations rows of a node together.
-    block = pde_equations;
-    rows  = processes::owned_rows(matrix.m(), block);
+    rows = processes::owned_rows(matrix.m(), pde_equations);
     // A pattern made afresh: on one it knows, Trilinos's copy would keep
     // the old value where the new one is zero.
     amg.clear();
@@ -177,20 +389,12 @@ namespace dieflow
 
 
   void
-  RowBlockAMG::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+  RowBlockAMG::vmult(DistributedVector &dst, const DistributedVector &src) const
   {
-    if (processes::n() == 1)
-      {
-        amg.vmult(dst, src);
-        return;
-      }
-    dealii::TrilinosWrappers::MPI::Vector x(rows, processes::communicator()), y(x);
-    std::copy(src.begin() + first_index(rows), src.begin() + first_index(rows) + rows.n_elements(), x.begin());
-    amg.vmult(y, x);
+    // On P > 1 src and dst hold this process's rows, as ML's matrix does.
     if (dst.size() != src.size())
-      dst.reinit(src.size());
-    std::copy(y.begin(), y.end(), dst.begin() + first_index(rows));
-    processes::gather(dst, block);
+      dst.reinit(src, true);
+    amg.vmult(dst, src);
   }
 
   template void

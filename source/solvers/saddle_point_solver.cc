@@ -2,7 +2,7 @@
 #include <dieflow/solvers/saddle_point_solver.h>
 
 #include <deal.II/base/timer.h>
-#include <deal.II/lac/block_vector.h>
+#include <deal.II/lac/la_parallel_block_vector.h>
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
@@ -22,54 +22,65 @@ namespace dieflow
     /// The Krylov vectors a solve goes on with (a restart every 98 iterations) after as many iterations with 32.
     constexpr unsigned int long_restart = 100;
 
-    /// The scaled mixed operator [A, B^T S; S B, -S C S] (S = diag(s_K)).
+    using BlockVector = dealii::LinearAlgebra::distributed::BlockVector<double>;
+
+    /// The scaled mixed operator [A, B^T S; S B, -S C S] (S = diag(s_K)),
+    /// on vectors divided among the processes (the velocity as A's rows,
+    /// the pressure by the cells' parts).
     template <int dim>
     class MixedOperator
     {
     public:
       MixedOperator(const RowBlockMatrix &          A,
                     const MixedPenalty<dim> &       blocks,
+                    const RowLayout &               pressure_layout,
                     const dealii::Vector<double> &  scale)
         : A(A)
-        , gradient(blocks.gradient)
-        , divergence(blocks.divergence)
         , blocks(blocks)
+        , pressure_layout(pressure_layout)
         , scale(scale)
         , scale_squared_over_penalty(scale.size())
       {
+        gradient.reinit(blocks.gradient, A.row_layout(), pressure_layout);
+        divergence.reinit(blocks.divergence, pressure_layout, A.row_layout());
         for (unsigned int c = 0; c < scale.size(); ++c)
           scale_squared_over_penalty[c] = scale[c] * scale[c] / blocks.penalty[c];
       }
 
       void
-      vmult(dealii::BlockVector<double> &dst, const dealii::BlockVector<double> &src) const
+      vmult(BlockVector &dst, const BlockVector &src) const
       {
         A.vmult(dst.block(0), src.block(0));
         scale_pressure(pressure, src.block(1));
         gradient.vmult_add(dst.block(0), pressure);
         divergence.vmult(dst.block(1), src.block(0));
         scale_pressure(dst.block(1), dst.block(1));
-        blocks.mass_vmult(pressure, src.block(1), scale_squared_over_penalty);
+        blocks.cell_vmult(MixedPenalty<dim>::CellBlock::mass, pressure, src.block(1), scale_squared_over_penalty,
+                          pressure_layout);
         dst.block(1) -= pressure;
       }
 
-      /// dst_K = s_K src_K (in place allowed).
+      /// dst_K = s_K src_K on this process's cells (in place allowed).
       void
-      scale_pressure(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+      scale_pressure(DistributedVector &dst, const DistributedVector &src) const
       {
         if (dst.size() != src.size())
-          dst.reinit(src.size());
-        for (unsigned int i = 0; i < src.size(); ++i)
-          dst[i] = scale[i / blocks.n_modes] * src[i];
+          pressure_layout.reinit(dst);
+        const auto &       cells   = pressure_layout.groups();
+        const unsigned int n_modes = blocks.n_modes;
+        for (std::size_t k = 0; k < cells.size(); ++k)
+          for (unsigned int m = 0; m < n_modes; ++m)
+            dst.local_element(k * n_modes + m) = scale[cells[k]] * src.local_element(k * n_modes + m);
       }
 
       /// A, B^T and B, their products divided among the MPI processes.
       const RowBlockMatrix &              A;
-      const RowBlockMatrix                gradient, divergence;
+      RowBlockMatrix                      gradient, divergence;
       const MixedPenalty<dim> &           blocks;
+      const RowLayout &                   pressure_layout;
       const dealii::Vector<double> &      scale;
       dealii::Vector<double>              scale_squared_over_penalty;
-      mutable dealii::Vector<double>      pressure;
+      mutable DistributedVector           pressure;
     };
 
     /**
@@ -95,7 +106,7 @@ namespace dieflow
       {}
 
       void
-      vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+      vmult(DistributedVector &dst, const DistributedVector &src) const
       {
         if (tolerance == 0)
           {
@@ -108,10 +119,10 @@ namespace dieflow
         try
           {
             if (symmetric)
-              dealii::SolverCG<dealii::Vector<double>>(control).solve(A, dst, src, one_cycle);
+              dealii::SolverCG<DistributedVector>(control).solve(A, dst, src, one_cycle);
             else
-              dealii::SolverGMRES<dealii::Vector<double>>(
-                control, dealii::SolverGMRES<dealii::Vector<double>>::AdditionalData(32, true))
+              dealii::SolverGMRES<DistributedVector>(control,
+                                                    dealii::SolverGMRES<DistributedVector>::AdditionalData(32, true))
                 .solve(A, dst, src, one_cycle);
           }
         catch (const dealii::SolverControl::NoConvergence &)
@@ -126,7 +137,7 @@ namespace dieflow
       {
         const VelocityBlockInverse &inverse;
         void
-        vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+        vmult(DistributedVector &dst, const DistributedVector &src) const
         {
           inverse.cycle(dst, src);
         }
@@ -134,7 +145,7 @@ namespace dieflow
 
       /// One multigrid cycle: the AMG V-cycle, or the p-multigrid cycle.
       void
-      cycle(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+      cycle(DistributedVector &dst, const DistributedVector &src) const
       {
         if (p_multigrid != nullptr)
           p_multigrid->vmult(dst, src);
@@ -161,18 +172,19 @@ namespace dieflow
         : op(op)
         , velocity_inverse(velocity_inverse)
         , schur_factor(op.scale.size())
-        , residual(op.A.m())
       {
         const auto &b = op.blocks;
         for (unsigned int c = 0; c < schur_factor.size(); ++c)
           schur_factor[c] =
             -1. / ((1. / b.viscosity[c] + 1. / b.penalty[c]) * op.scale[c] * op.scale[c]);
+        op.A.row_layout().reinit(residual);
       }
 
       void
-      vmult(dealii::BlockVector<double> &dst, const dealii::BlockVector<double> &src) const
+      vmult(BlockVector &dst, const BlockVector &src) const
       {
-        op.blocks.inverse_mass_vmult(dst.block(1), src.block(1), schur_factor);
+        op.blocks.cell_vmult(MixedPenalty<dim>::CellBlock::inverse_mass, dst.block(1), src.block(1), schur_factor,
+                             op.pressure_layout);
         op.scale_pressure(pressure, dst.block(1));
         op.gradient.vmult(residual, pressure);
         residual.sadd(-1., 1., src.block(0));
@@ -182,8 +194,8 @@ namespace dieflow
       const MixedOperator<dim> &                       op;
       const VelocityBlockInverse<dim> &                velocity_inverse;
       dealii::Vector<double>                           schur_factor;
-      mutable dealii::Vector<double>                   pressure;
-      mutable dealii::Vector<double>                   residual;
+      mutable DistributedVector                        pressure;
+      mutable DistributedVector                        residual;
     };
     /**
      * The restart length, up to long_restart, whose Krylov vectors (of the
@@ -192,7 +204,7 @@ namespace dieflow
      * fit in half the memory free now; at least @p shortest.
      */
     unsigned int
-    affordable_restart(const dealii::BlockVector<double> &x,
+    affordable_restart(const BlockVector &               x,
                        const unsigned int                 shortest,
                        const unsigned int                 vectors_per_iteration)
     {
@@ -202,7 +214,11 @@ namespace dieflow
                                  LinearSolver::available_memory();
       if (available == 0)
         return long_restart;
-      const double per_iteration = vectors_per_iteration * sizeof(double) * static_cast<double>(x.size());
+      // Each process holds its part of every vector: the largest part.
+      const double largest_part =
+        dealii::Utilities::MPI::max(static_cast<double>(x.block(0).locally_owned_size() + x.block(1).locally_owned_size()),
+                                    processes::communicator());
+      const double per_iteration = vectors_per_iteration * sizeof(double) * largest_part;
       const double fitting       = (0.5 * available - 2 * per_iteration) / per_iteration;
       return std::max(shortest, static_cast<unsigned int>(std::min<double>(long_restart, std::max(0., fitting))));
     }
@@ -248,12 +264,19 @@ namespace dieflow
     for (unsigned int c = 0; c < blocks.n_cells; ++c)
       scale[c] = blocks.viscosity[c] / blocks.size[c];
 
-    velocity_block.reinit(A);
-    const MixedOperator<dim> op(velocity_block, blocks, scale);
-    dealii::BlockVector<double> x(std::vector<dealii::types::global_dof_index>{A.m(), blocks.n_pressure()});
-    dealii::BlockVector<double> b(x);
-    b.block(0) = rhs_velocity;
-    op.scale_pressure(b.block(1), rhs_pressure);
+    // The velocity as the matrix's rows, the pressure by the cells' parts.
+    velocity_layout.reinit_rows(A.m());
+    pressure_layout.reinit_groups(blocks.part, blocks.n_modes);
+    velocity_block.reinit(A, velocity_layout, velocity_layout);
+    const MixedOperator<dim> op(velocity_block, blocks, pressure_layout, scale);
+    BlockVector              x(2);
+    velocity_layout.reinit(x.block(0));
+    pressure_layout.reinit(x.block(1));
+    x.collect_sizes();
+    BlockVector b(x);
+    velocity_layout.extract(rhs_velocity, b.block(0));
+    pressure_layout.extract(rhs_pressure, b.block(1));
+    op.scale_pressure(b.block(1), b.block(1));
     const double target = tolerance * b.l2_norm();
     if (target == 0)
       {
@@ -294,13 +317,13 @@ namespace dieflow
         {
           if (inner_tolerance == 0)
             {
-              typename dealii::SolverGMRES<dealii::BlockVector<double>>::AdditionalData data(restart, true);
-              dealii::SolverGMRES<dealii::BlockVector<double>>(control, data).solve(op, x, b, preconditioner);
+              typename dealii::SolverGMRES<BlockVector>::AdditionalData data(restart, true);
+              dealii::SolverGMRES<BlockVector>(control, data).solve(op, x, b, preconditioner);
             }
           else
             {
-              typename dealii::SolverFGMRES<dealii::BlockVector<double>>::AdditionalData data(restart);
-              dealii::SolverFGMRES<dealii::BlockVector<double>>(control, data).solve(op, x, b, preconditioner);
+              typename dealii::SolverFGMRES<BlockVector>::AdditionalData data(restart);
+              dealii::SolverFGMRES<BlockVector>(control, data).solve(op, x, b, preconditioner);
             }
         }
       catch (const dealii::SolverControl::NoConvergence &)
@@ -318,13 +341,16 @@ namespace dieflow
         gmres(affordable_restart(x, short_restart, inner_tolerance == 0 ? 1 : 2), max_iterations - info.iterations);
     info.residual_reduction = last_residual / b.l2_norm();
     info.inner_iterations   = velocity_inverse.iterations;
-    du = x.block(0);
-    op.scale_pressure(dp, x.block(1));
+    // Every process the whole update (the same bits everywhere).
+    velocity_layout.gather(x.block(0), du);
+    op.scale_pressure(x.block(1), x.block(1));
+    pressure_layout.gather(x.block(1), dp);
     // deal.II's solvers take their Krylov vectors from a pool that keeps
     // them, once returned, until the program ends: 32 block vectors, a
     // large share of the peak heap, held while the next Newton step
     // assembles and sets up its multigrid.
-    dealii::GrowingVectorMemory<dealii::BlockVector<double>>::release_unused_memory();
+    dealii::GrowingVectorMemory<BlockVector>::release_unused_memory();
+    dealii::GrowingVectorMemory<DistributedVector>::release_unused_memory();
     return info;
   }
 

@@ -14,6 +14,8 @@
 
 #include <mpi.h>
 
+#include <cstdint>
+
 #include <ostream>
 #include <utility>
 #include <vector>
@@ -34,8 +36,10 @@ namespace dieflow
    *    round-off bound) read, and the only ones it stores whole;
    *  - the linear solve: the direct solver factorises across processes
    *    (MUMPS, DistributedDirectSolver), each owning a block of rows; the
-   *    iterative solvers multiply by blocks of rows (RowBlockMatrix, ML
-   *    across processes), the results gathered.
+   *    iterative solvers run on vectors divided among the processes
+   *    (Trilinos's for degree 1; for the mixed form RowLayout, each product
+   *    by each process's rows with the border's entries exchanged,
+   *    RowBlockMatrix; ML across processes), the solution gathered.
    * Every sum is formed once, each entry on one process (a P-th of them
    * on each), and gathered from there (but the matrix's), so every process
    * holds the same bits and takes the same decisions (a contact state, a
@@ -171,6 +175,14 @@ namespace dieflow
      */
     void
     own_rows_by_part(const std::vector<dealii::types::global_dof_index> &rows_of_part);
+
+    /**
+     * Collective. Sends @p outgoing[q] to each process q (this one's own
+     * entry is not sent) and returns what each sent to this one: the
+     * lengths first, then the messages, all in flight at once.
+     */
+    std::vector<std::vector<std::uint64_t>>
+    exchange(const std::vector<std::vector<std::uint64_t>> &outgoing);
 
     /// Where each process holds the entries of its owned_rows(v.size(),
     /// @p block) in @p v, gives every process all of them (the same bits

@@ -3,6 +3,7 @@
 #define dieflow_mixed_penalty_h
 
 #include <dieflow/base/processes.h>
+#include <dieflow/solvers/row_blocks.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -72,6 +73,19 @@ namespace dieflow
                        const dealii::Vector<double> &src,
                        const dealii::Vector<double> &factor) const;
 
+    /// The cell masses M_K or their inverses.
+    enum class CellBlock
+    {
+      mass,
+      inverse_mass
+    };
+    /// dst_K = factor_K M_K src_K (or M_K^-1) on this process's cells:
+    /// @p dst and @p src in @p pressure's layout
+    /// (RowLayout::reinit_groups(part, n_modes)), @p factor per cell.
+    void
+    cell_vmult(const CellBlock which, DistributedVector &dst, const DistributedVector &src,
+               const dealii::Vector<double> &factor, const RowLayout &pressure) const;
+
     /// |B^T| lambda |M^-1| |B| |v| (entrywise absolute values): a bound of
     /// the penalty term's share of |J| |v|, for the round-off bound.
     dealii::Vector<double>
@@ -96,6 +110,9 @@ namespace dieflow
     dealii::SparseMatrix<double> gradient;
     /// lambda_K, eta_K, h_K.
     dealii::Vector<double> penalty, viscosity, size;
+    /// The process that assembles each cell (its part; 0 on one process):
+    /// the holder of its pressure modes in the iterative solver.
+    std::vector<unsigned int> part;
 
   private:
     std::vector<double> masses, inverse_masses;

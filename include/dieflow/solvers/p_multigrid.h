@@ -10,6 +10,7 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/diagonal_matrix.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/precondition.h>
 #include <deal.II/lac/sparse_matrix.h>
@@ -98,8 +99,9 @@ namespace dieflow
                const dealii::AffineConstraints<double> &constraints,
                const dealii::Vector<double> *           flow = nullptr);
 
+    /// dst = the cycle applied to src (both in the layout of A's rows).
     void
-    vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+    vmult(DistributedVector &dst, const DistributedVector &src) const;
 
   private:
     dealii::FESystem<dim>                     coarse_fe{dealii::FE_Q<dim>(1), dim};
@@ -109,6 +111,10 @@ namespace dieflow
     std::vector<dealii::types::global_dof_index> vertex_dof;
     dealii::SparsityPattern                   embedding_pattern;
     dealii::SparseMatrix<double>              embedding;
+    /// P^T, to restrict by rows as P prolongs (on P > 1 processes each
+    /// computes its coarse rows of it).
+    dealii::SparsityPattern                   restriction_pattern;
+    dealii::SparseMatrix<double>              restriction;
     /// Kept per mesh; the matrices A P and A_1 hold values only during
     /// initialize(). On P > 1 processes A_1's pattern is each process's
     /// own coarse rows whole and its fine rows' entries in the others'
@@ -117,12 +123,16 @@ namespace dieflow
     processes::RowSums                        coarse_sums;
     dealii::SparseMatrix<double>              product, coarse_matrix;
     bool                                      patterns_built = false;
-    dealii::Vector<double>                    free;
+    /// The Q1 space divided as ML's rows (whole nodes); P and P^T across the processes.
+    RowLayout                                 coarse_layout;
+    RowBlockMatrix                            prolongation_rows, restriction_rows;
+    /// 1 on A's unconstrained rows, 0 on the others (this process's rows).
+    DistributedVector                         free;
     /// A (the saddle-point solver's), its products divided among the MPI processes.
     const RowBlockMatrix *                    matrix = nullptr;
-    dealii::PreconditionChebyshev<RowBlockMatrix, dealii::Vector<double>> smoother;
+    dealii::PreconditionChebyshev<RowBlockMatrix, DistributedVector, dealii::DiagonalMatrix<DistributedVector>> smoother;
     RowBlockAMG                               coarse_amg;
-    mutable dealii::Vector<double>            residual, coarse_residual, coarse_correction;
+    mutable DistributedVector                 residual, coarse_residual, coarse_correction;
   };
 } // namespace dieflow
 

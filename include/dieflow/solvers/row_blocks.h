@@ -1,32 +1,165 @@
-// Operators of the replicated systems applied across the MPI processes: each computes its block of rows, the result gathered (a sparse matrix, an ML hierarchy).
+// The iterative solvers' operators across the MPI processes: vectors divided among them (RowLayout), products by each process's rows with the border's entries exchanged (RowBlockMatrix), an ML hierarchy.
 #ifndef dieflow_row_blocks_h
 #define dieflow_row_blocks_h
 
 #include <deal.II/base/index_set.h>
+#include <deal.II/base/partitioner.h>
 #include <deal.II/base/subscriptor.h>
+#include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
-#include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/lac/vector.h>
 
+#include <memory>
 #include <vector>
 
 namespace dieflow
 {
+  /// A vector divided among the MPI processes, each holding its entries (RowLayout).
+  using DistributedVector = dealii::LinearAlgebra::distributed::Vector<double>;
+
   /**
-   * y = M x for a sparse matrix M every process holds whole (processes.h):
-   * on one process deal.II's own (threaded) product; on P processes each
-   * multiplies its block of rows (processes::owned_rows()) of M as it is,
-   * with x, which every process holds whole, and the blocks are gathered,
-   * so every process holds the same bits of y at a P-th of the work. No
-   * copy of M is made: an earlier version copied each block into a
-   * distributed Trilinos matrix at every solve, whose graph set-up and
-   * Epetra's product with its column import cost more than the product
-   * saved (doc/parallel.md). The matrix interface PreconditionChebyshev
-   * (which subscribes to it) and the Krylov solvers need (m(), el(),
-   * vmult()). Only this process's rows of M are read: the system matrix
-   * holds sums in no others (processes::RowSums).
+   * How the n entries of a vector space (in the program's numbering, the
+   * "whole" index) are divided among the MPI processes, and so a
+   * DistributedVector of it: either blocks of consecutive rows
+   * (processes::owned_rows(n, block): the velocity, numbered by the cells'
+   * parts; p-multigrid's Q1 space), or groups of consecutive entries each
+   * held by the process of its cell (the mixed form's pressure modes,
+   * numbered cell after cell, a cell's part not a block of them). A
+   * process's entries are its part of the distributed vector, in the order
+   * of their whole indices; the parts follow each other in the order of the
+   * ranks, so for groups the distributed vector's index of an entry is not
+   * its whole index. With one process, every entry in its place.
+   */
+  class RowLayout
+  {
+  public:
+    using size_type = dealii::types::global_dof_index;
+
+    /// Collective. Process r holds processes::owned_rows(n, block).
+    void
+    reinit_rows(const size_type n, const unsigned int block = 1);
+
+    /// Collective. Group g (the entries [g group_size, (g + 1) group_size))
+    /// is held by process owner_of_group[g] (the same on every process).
+    void
+    reinit_groups(const std::vector<unsigned int> &owner_of_group, const unsigned int group_size);
+
+    size_type
+    size() const
+    {
+      return n;
+    }
+    /// This process's entries.
+    size_type
+    n_local() const
+    {
+      return local_size;
+    }
+    /// The whole index of this process's k-th entry.
+    size_type
+    whole_index(const size_type k) const
+    {
+      return own_groups.empty() ? first + k : size_type(own_groups[k / group]) * group + k % group;
+    }
+    /// Rows: this process's entries are [first_whole(), first_whole() + n_local()).
+    bool
+    contiguous() const
+    {
+      return own_groups.empty();
+    }
+    size_type
+    first_whole() const
+    {
+      return first;
+    }
+    /// The process that holds entry @p i and where in its part.
+    unsigned int
+    owner(const size_type i) const;
+    size_type
+    local_index(const size_type i) const;
+    /// Groups: the groups this process holds (its cells), in order.
+    const std::vector<unsigned int> &
+    groups() const
+    {
+      return own_groups;
+    }
+    unsigned int
+    group_size() const
+    {
+      return group;
+    }
+
+    /// @p v sized to this layout (zero).
+    void
+    reinit(DistributedVector &v) const;
+    /// @p v's entries from the vector @p whole that every process holds.
+    void
+    extract(const dealii::Vector<double> &whole, DistributedVector &v) const;
+    /// Collective. @p whole (sized n) made of every process's entries of @p v:
+    /// the same bits on every process.
+    void
+    gather(const DistributedVector &v, dealii::Vector<double> &whole) const;
+
+  private:
+    size_type    n = 0, local_size = 0, first = 0;
+    unsigned int group = 1;
+    /// Rows: where each process's block starts (P + 1 entries, the last n).
+    std::vector<size_type> starts;
+    /// Groups: each group's process and its place among that process's groups.
+    std::vector<unsigned int> owner_of_group, place_of_group;
+    /// Groups: this process's.
+    std::vector<unsigned int> own_groups;
+    /// Groups: each process's first entry in the distributed vector.
+    std::vector<size_type> offsets;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner;
+  };
+
+
+
+  /**
+   * The entries of a DistributedVector (layout @p columns) that a matrix's
+   * rows held by this process (layout @p rows) read and other processes
+   * hold: the ghost layer of the parts' border. reinit() agrees once per
+   * pattern which entries each process sends to which; import() brings
+   * them, with this process's own, into a vector indexed by the whole
+   * numbering (one message each way per neighbouring process).
+   */
+  class ColumnImport
+  {
+  public:
+    /// Collective.
+    void
+    reinit(const dealii::SparsityPattern &pattern, const RowLayout &rows, const RowLayout &columns);
+
+    /// Collective. whole[j] = src's entry j for every column j this
+    /// process's rows read (the other entries of whole are left as they are).
+    void
+    import(const DistributedVector &src, dealii::Vector<double> &whole) const;
+
+  private:
+    const RowLayout *columns = nullptr;
+    /// For each process: the local indices of what this one sends it, and
+    /// the whole indices of what it receives from it.
+    std::vector<std::vector<unsigned int>>                    send_local;
+    std::vector<std::vector<dealii::types::global_dof_index>> receive_whole;
+    mutable std::vector<std::vector<double>>                  send_buffers, receive_buffers;
+  };
+
+
+
+  /**
+   * y = M x for a sparse matrix M and DistributedVectors x (layout
+   * @p columns) and y (layout @p rows): each process computes its entries
+   * of y from its rows of M as they are (among its threads), on P > 1
+   * after ColumnImport has brought the entries of x those rows read. No copy of M is made: an earlier version copied
+   * each block into a distributed Trilinos matrix at every solve, whose
+   * graph set-up and Epetra's product with its column import cost more
+   * than the product saved (doc/parallel.md). Only this process's rows of
+   * M are read: the system matrix holds sums in no others
+   * (processes::RowSums). The matrix interface PreconditionChebyshev
+   * (which subscribes to it, given its diagonal) and the Krylov solvers need.
    */
   class RowBlockMatrix : public dealii::Subscriptor
   {
@@ -34,18 +167,23 @@ namespace dieflow
     using size_type  = dealii::types::global_dof_index;
     using value_type = double;
 
-    RowBlockMatrix() = default;
-    explicit RowBlockMatrix(const dealii::SparseMatrix<double> &matrix);
-
-    /// Refers to @p matrix (kept alive and unchanged by the caller while this is used).
+    /// Collective. Refers to @p matrix, @p rows and @p columns (kept alive
+    /// and unchanged by the caller while this is used).
     void
-    reinit(const dealii::SparseMatrix<double> &matrix);
+    reinit(const dealii::SparseMatrix<double> &matrix, const RowLayout &rows, const RowLayout &columns);
 
-    /// The whole matrix.
+    /// The matrix (on P > 1 its sums in this process's rows alone).
     const dealii::SparseMatrix<double> &
     whole() const
     {
       return *matrix;
+    }
+
+    /// How the rows (and a product's entries) are divided.
+    const RowLayout &
+    row_layout() const
+    {
+      return *rows;
     }
 
     size_type
@@ -58,37 +196,46 @@ namespace dieflow
     {
       return matrix->n();
     }
-    /// M_ij; on P > 1 the diagonal only (what PreconditionChebyshev
-    /// reads), gathered by reinit() from each process's rows.
+
+    /// M_ij, for PreconditionChebyshev's serial fallback, which reads every
+    /// row's diagonal: never taken here, as its diagonal is given
+    /// (inverse_diagonal()); on P > 1 the other processes' rows are NaN.
     double
     el(const size_type i, const size_type j) const
     {
-      Assert(diagonal.size() == 0 || i == j, dealii::ExcMessage("on P > 1 only the diagonal"));
-      return diagonal.size() > 0 ? diagonal[i] : matrix->el(i, j);
+      return matrix->el(i, j);
     }
 
     /// dst = M src.
     void
-    vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+    vmult(DistributedVector &dst, const DistributedVector &src) const;
     /// dst += M src.
     void
-    vmult_add(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+    vmult_add(DistributedVector &dst, const DistributedVector &src) const;
     /// dst = b - M x.
     void
-    residual(dealii::Vector<double> &dst, const dealii::Vector<double> &x, const dealii::Vector<double> &b) const;
+    residual(DistributedVector &dst, const DistributedVector &x, const DistributedVector &b) const;
+    /// A square matrix's diagonal inverted, in this process's rows.
+    void
+    inverse_diagonal(DistributedVector &d) const;
 
   private:
-    /// dst's entries in this process's rows: M src (+ dst where @p add).
+    enum class Product
+    {
+      set,
+      add,
+      residual
+    };
+    /// dst's entries: M src, dst + M src, or b - M src.
     void
-    multiply_own_rows(dealii::Vector<double> &dst, const dealii::Vector<double> &src, const bool add) const;
+    multiply(DistributedVector &dst, const DistributedVector &src, const DistributedVector *b, const Product what) const;
 
-    const dealii::SparseMatrix<double> *matrix = nullptr;
-    /// On P > 1: this process's rows, [first_row, end_row); the matrix's
-    /// values as one array (processes::matrix_values()); a square matrix's
-    /// diagonal, whole.
-    size_type              first_row = 0, end_row = 0;
-    const double *         values    = nullptr;
-    dealii::Vector<double> diagonal;
+    const dealii::SparseMatrix<double> *matrix  = nullptr;
+    const RowLayout *                   rows    = nullptr;
+    const double *                      values  = nullptr;
+    ColumnImport                        import;
+    /// The entries of src this process's rows read, at their whole indices.
+    mutable dealii::Vector<double> whole_src;
   };
 
 
@@ -99,7 +246,8 @@ namespace dieflow
    * (initialize_with_rigid_body_modes()), built across the processes where
    * there are several: each process's block of rows (whole nodes: blocks of
    * @p pde_equations rows) in a distributed Trilinos matrix, ML's hierarchy
-   * over all of them, the cycle's result gathered. With @p pde_equations
+   * over all of them, the vectors in the layout of those rows
+   * (RowLayout::reinit_rows(m, pde_equations)). With @p pde_equations
    * > 1 a process's block of rows is rounded to whole nodes: the matrix
    * must hold its sums in the rows owned_rows(m, pde_equations) gives
    * (RowSums::reinit() with that block), or in every row.
@@ -117,11 +265,10 @@ namespace dieflow
 
     /// dst = one V-cycle applied to src.
     void
-    vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const;
+    vmult(DistributedVector &dst, const DistributedVector &src) const;
 
   private:
     dealii::IndexSet                          rows;
-    unsigned int                              block = 1;
     dealii::TrilinosWrappers::SparseMatrix    copy;
     dealii::TrilinosWrappers::PreconditionAMG amg;
     std::vector<double>                       local_modes;

@@ -111,6 +111,10 @@ namespace dieflow
   private:
     MpiOnFirstUse                             mpi;
     std::vector<double>                       modes;
+    /// How the vectors are divided among the MPI processes: the velocity as
+    /// A's rows, the pressure modes by their cells' parts (each process
+    /// holds its part of every Krylov vector).
+    RowLayout                                 velocity_layout, pressure_layout;
     /// A, its products divided among the MPI processes (before p_multigrid, which refers to it).
     RowBlockMatrix                            velocity_block;
     RowBlockAMG                               velocity_preconditioner;
