@@ -1,4 +1,4 @@
-// The operations that divide the replicated systems among MPI processes, against deal.II's whole-matrix ones: RowBlockMatrix's products and processes::sum.
+// The operations that divide the systems among MPI processes, against deal.II's whole-matrix ones: RowBlockMatrix's products on distributed vectors, RowSums and processes::sum.
 //
 // The program launches itself under mpirun on 2 and 3 processes (tests/mpi_runs.h
 // sets Open MPI up for root). Each process builds the same random matrices
@@ -143,8 +143,10 @@ namespace
   /// @p layout for @p n entries: blocks of rows (@p group 0), or groups of
   /// @p group entries each held by a random process (the same on all: one
   /// seed), as the mixed form's pressure modes by their cells' parts.
+  /// With @p first_only every group on the first process (the others none).
   void
-  make_layout(RowLayout &layout, const unsigned int n, const unsigned int group, std::mt19937 &random)
+  make_layout(RowLayout &layout, const unsigned int n, const unsigned int group, std::mt19937 &random,
+              const bool first_only)
   {
     if (group == 0)
       {
@@ -154,7 +156,7 @@ namespace
     std::uniform_int_distribution<unsigned int> process(0, processes::n() - 1);
     std::vector<unsigned int>                   owner(n / group);
     for (auto &q : owner)
-      q = process(random);
+      q = first_only ? 0 : process(random);
     layout.reinit_groups(owner, group);
   }
 
@@ -170,13 +172,14 @@ namespace
                  std::ostream &              out,
                  const SparseMatrix<double> *summed       = nullptr,
                  const unsigned int          row_group    = 0,
-                 const unsigned int          column_group = 0)
+                 const unsigned int          column_group = 0,
+                 const bool                  first_only   = false)
   {
     const Vector<double> x = random_vector(M.n(), random), y0 = random_vector(M.m(), random),
                          b = random_vector(M.m(), random);
     RowLayout            rows, columns;
-    make_layout(rows, M.m(), row_group, random);
-    make_layout(columns, M.n(), column_group, random);
+    make_layout(rows, M.m(), row_group, random, first_only);
+    make_layout(columns, M.n(), column_group, random, first_only);
     RowBlockMatrix product;
     product.reinit(summed != nullptr ? *summed : M, rows, columns);
     DistributedVector x_part, y_part, b_part;
@@ -292,6 +295,21 @@ namespace
                      nullptr, 7);
       check_products("its transpose 1001 x 301, its columns in groups of 7 on random processes", BT, groups_random, out,
                      nullptr, 0, 7);
+      // Processes that hold nothing: every group on the first; a square
+      // matrix whose rows' blocks leave a process out (the last of 2, the
+      // middle one of 3: own_rows_by_part(), for this size alone).
+      check_products("rectangular 301 x 1001, its rows in groups of 7 all on the first process", B, groups_random, out,
+                     nullptr, 7, 0, true);
+      check_products("its transpose 1001 x 301, its columns in groups of 7 all on the first process", BT, groups_random,
+                     out, nullptr, 0, 7, true);
+      const dealii::SparsityPattern square_601 = random_pattern(601, 601, 12, 0, 0, groups_random);
+      SparseMatrix<double>          E(square_601);
+      fill(E, groups_random);
+      std::vector<dealii::types::global_dof_index> rows_of_part(processes::n(), 0);
+      rows_of_part.front() = processes::n() == 2 ? 601 : 300;
+      rows_of_part.back() += 601 - rows_of_part.front();
+      processes::own_rows_by_part(rows_of_part);
+      check_products("square 601 x 601, a process owning no rows", E, groups_random, out);
     }
     check_products("500 x 499, rows 0-199 empty", C, random, out);
     check_products("2 x 1001", D, random, out);

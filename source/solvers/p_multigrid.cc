@@ -41,9 +41,15 @@ namespace dieflow
     };
     dealii::DynamicSparsityPattern pattern(dof_handler.n_dofs(), coarse_dofs.n_dofs()),
       transposed(coarse_dofs.n_dofs(), dof_handler.n_dofs());
+    // P^T on P > 1 in the coarse rows this process owns alone (those the
+    // restriction computes; whole nodes, as RowBlockAMG reads them). One
+    // process restricts with P itself (Tvmult), and stores no P^T.
+    const dealii::IndexSet restricted = processes::n() > 1 ? processes::owned_rows(coarse_dofs.n_dofs(), dim) :
+                                                              dealii::IndexSet(coarse_dofs.n_dofs());
     for_each_entry([&](const auto i, const auto j, const double) {
       pattern.add(i, j);
-      transposed.add(j, i);
+      if (restricted.is_element(j))
+        transposed.add(j, i);
     });
     embedding.clear();
     restriction.clear();
@@ -57,7 +63,8 @@ namespace dieflow
     vertex_dof.assign(coarse_dofs.n_dofs(), 0);
     for_each_entry([&](const auto i, const auto j, const double value) {
       embedding.set(i, j, value);
-      restriction.set(j, i, value);
+      if (restricted.is_element(j))
+        restriction.set(j, i, value);
       if (std::abs(value - 1.) < 1e-12)
         vertex_dof[j] = i;
     });
@@ -157,10 +164,6 @@ namespace dieflow
     matrix                                = &A_rows;
     const dealii::SparseMatrix<double> &A = A_rows.whole();
     const RowLayout &                   fine  = A_rows.row_layout();
-    // Whole nodes per process on Q1, as RowBlockAMG reads its rows.
-    coarse_layout.reinit_rows(coarse_dofs.n_dofs(), dim);
-    prolongation_rows.reinit(embedding, fine, coarse_layout);
-    restriction_rows.reinit(restriction, coarse_layout, fine);
     dealii::Vector<double> free_whole(A.m());
     for (unsigned int i = 0; i < A.m(); ++i)
       free_whole[i] = constraints.is_constrained(i) ? 0. : 1.;
@@ -170,6 +173,15 @@ namespace dieflow
     // per mesh, then only the values are recomputed.
     const bool first = !patterns_built;
     patterns_built   = true;
+    if (first)
+      {
+        // Whole nodes per process on Q1, as RowBlockAMG reads its rows;
+        // the transfers' exchanges agreed once per mesh.
+        coarse_layout.reinit_rows(coarse_dofs.n_dofs(), dim);
+        prolongation_rows.reinit(embedding, fine, coarse_layout);
+        if (processes::n() > 1)
+          restriction_rows.reinit(restriction, coarse_layout, fine);
+      }
     if (processes::n() > 1)
       {
         // A holds its sums, and its pattern, in each process's own rows
@@ -286,7 +298,10 @@ namespace dieflow
     smoother.vmult(dst, src);
     matrix->residual(residual, dst, src);
     residual.scale(free);
-    restriction_rows.vmult(coarse_residual, residual);
+    if (processes::n() > 1)
+      restriction_rows.vmult(coarse_residual, residual);
+    else
+      embedding.Tvmult(coarse_residual, residual);
     coarse_amg.vmult(coarse_correction, coarse_residual);
     prolongation_rows.vmult(residual, coarse_correction);
     residual.scale(free);

@@ -36,20 +36,21 @@ namespace dieflow
     own_groups.clear();
     owner_of_group.clear();
     place_of_group.clear();
-    const dealii::IndexSet rows = processes::owned_rows(n, block);
-    first                       = first_index(rows);
-    local_size                  = rows.n_elements();
-    // Every process's start: each is the end of the one before (the
-    // blocks follow each other in the order of the ranks).
-    std::vector<std::uint64_t> ends(processes::n());
-    std::uint64_t              end = first + local_size;
+    grouped    = false;
+    local_size = processes::owned_rows(n, block).n_elements();
+    // Every process's start: the blocks follow each other in the order of
+    // the ranks (an empty block's IndexSet does not say where it is).
+    std::vector<std::uint64_t> sizes(processes::n(), local_size);
     if (processes::n() > 1)
-      MPI_Allgather(&end, 1, MPI_UINT64_T, ends.data(), 1, MPI_UINT64_T, processes::communicator());
-    else
-      ends[0] = end;
+      {
+        const std::uint64_t own = local_size;
+        MPI_Allgather(&own, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, processes::communicator());
+      }
     starts.assign(processes::n() + 1, 0);
     for (unsigned int q = 0; q < processes::n(); ++q)
-      starts[q + 1] = ends[q];
+      starts[q + 1] = starts[q] + sizes[q];
+    AssertDimension(starts.back(), n);
+    first = starts[processes::rank()];
     dealii::IndexSet owned(n);
     owned.add_range(first, first + local_size);
     partitioner = std::make_shared<dealii::Utilities::MPI::Partitioner>(owned, processes::communicator());
@@ -60,8 +61,9 @@ namespace dieflow
   void
   RowLayout::reinit_groups(const std::vector<unsigned int> &owner, const unsigned int group_size)
   {
-    group = group_size;
-    n     = size_type(owner.size()) * group;
+    grouped = true;
+    group   = group_size;
+    n       = size_type(owner.size()) * group;
     first = 0;
     starts.clear();
     owner_of_group = owner;
@@ -118,8 +120,7 @@ namespace dieflow
   RowLayout::extract(const dealii::Vector<double> &whole, DistributedVector &v) const
   {
     AssertDimension(whole.size(), n);
-    if (v.size() != n)
-      reinit(v);
+    reinit(v);
     if (contiguous())
       std::copy(whole.begin() + first, whole.begin() + first + local_size, v.begin());
     else
@@ -270,8 +271,12 @@ namespace dieflow
   RowBlockMatrix::multiply(DistributedVector &dst, const DistributedVector &src, const DistributedVector *b,
                            const Product what) const
   {
+    Assert(&dst != &src, dealii::ExcMessage("a product's source and destination must differ"));
     if (dst.size() != matrix->m())
       rows->reinit(dst);
+    AssertDimension(dst.locally_owned_size(), rows->n_local());
+    AssertDimension(src.size(), matrix->n());
+    Assert(b == nullptr || b->locally_owned_size() == rows->n_local(), dealii::ExcInternalError());
     const double *x = src.begin();
     if (processes::n() > 1)
       {
@@ -295,14 +300,20 @@ namespace dieflow
           {
             const size_type    i      = contiguous ? first + k : rows->whole_index(k);
             const unsigned int length = pattern.row_length(i);
-            double             sum    = 0;
+            // Started from dst or b, as deal.II's vmult_add and residual
+            // do: one process computes the same bits as they did.
+            double sum = what == Product::set ? 0. : what == Product::add ? y[k] : r[k];
             if (length > 0)
               {
                 const double *const row = values + pattern.begin(i)->global_index();
-                for (unsigned int e = 0; e < length; ++e)
-                  sum += row[e] * x[pattern.column_number(i, e)];
+                if (what == Product::residual)
+                  for (unsigned int e = 0; e < length; ++e)
+                    sum -= row[e] * x[pattern.column_number(i, e)];
+                else
+                  for (unsigned int e = 0; e < length; ++e)
+                    sum += row[e] * x[pattern.column_number(i, e)];
               }
-            y[k] = what == Product::set ? sum : what == Product::add ? y[k] + sum : r[k] - sum;
+            y[k] = sum;
           }
       },
       1000);

@@ -44,6 +44,9 @@ namespace dieflow
    * on each), and gathered from there (but the matrix's), so every process
    * holds the same bits and takes the same decisions (a contact state, a
    * line-search step, the end of a cycle) without further communication.
+   * The exception: a distributed Krylov solve stops on norms all-reduced,
+   * which MPI gives every process to the same bit; its solution is then
+   * gathered, so the state stays the same bits.
    * Only the first process writes files and the log.
    *
    * With one process (the default, no launcher) none of this runs, and MPI

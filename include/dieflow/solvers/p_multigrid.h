@@ -111,8 +111,9 @@ namespace dieflow
     std::vector<dealii::types::global_dof_index> vertex_dof;
     dealii::SparsityPattern                   embedding_pattern;
     dealii::SparseMatrix<double>              embedding;
-    /// P^T, to restrict by rows as P prolongs (on P > 1 processes each
-    /// computes its coarse rows of it).
+    /// P^T on P > 1 processes, to restrict by rows as P prolongs: only the
+    /// coarse rows this process owns, those it computes (one process
+    /// restricts with P, Tvmult).
     dealii::SparsityPattern                   restriction_pattern;
     dealii::SparseMatrix<double>              restriction;
     /// Kept per mesh; the matrices A P and A_1 hold values only during

@@ -41,8 +41,9 @@ namespace dieflow
     void
     reinit_rows(const size_type n, const unsigned int block = 1);
 
-    /// Collective. Group g (the entries [g group_size, (g + 1) group_size))
-    /// is held by process owner_of_group[g] (the same on every process).
+    /// Group g (the entries [g group_size, (g + 1) group_size)) is held by
+    /// process owner_of_group[g] (the same on every process; a process
+    /// may hold none).
     void
     reinit_groups(const std::vector<unsigned int> &owner_of_group, const unsigned int group_size);
 
@@ -61,13 +62,13 @@ namespace dieflow
     size_type
     whole_index(const size_type k) const
     {
-      return own_groups.empty() ? first + k : size_type(own_groups[k / group]) * group + k % group;
+      return !grouped ? first + k : size_type(own_groups[k / group]) * group + k % group;
     }
     /// Rows: this process's entries are [first_whole(), first_whole() + n_local()).
     bool
     contiguous() const
     {
-      return own_groups.empty();
+      return !grouped;
     }
     size_type
     first_whole() const
@@ -104,7 +105,8 @@ namespace dieflow
 
   private:
     size_type    n = 0, local_size = 0, first = 0;
-    unsigned int group = 1;
+    unsigned int group   = 1;
+    bool         grouped = false;
     /// Rows: where each process's block starts (P + 1 entries, the last n).
     std::vector<size_type> starts;
     /// Groups: each group's process and its place among that process's groups.
