@@ -39,11 +39,21 @@
 //    others, on patterns whole on every process (a square matrix, one whose
 //    first rows are empty and one of 2 rows) and on a matrix assembled by
 //    parts (each process its cells' entries; rows owned in uneven blocks,
-//    processes::own_rows_by_part()) against the same cells assembled whole.
+//    processes::own_rows_by_part()) against the same cells assembled whole;
+//  - two spaces of one mesh (Q2 and Q1 velocity) numbered by part at once
+//    (processes::distribute_dofs, number_dofs_by_part): each process owns
+//    exactly the dofs DoFTools::get_subdomain_association gives its part,
+//    in each space.
 #include <dieflow/base/processes.h>
 #include <dieflow/solvers/p_multigrid.h>
 #include <dieflow/solvers/row_blocks.h>
 
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/tria.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
@@ -497,6 +507,35 @@ namespace
         exact = exact && (own.is_element(e->row()) ? e->value() == W.el(e->row(), e->column()) : std::isnan(e->value()));
       out << "RowSums of a matrix assembled by parts (" << n << " rows in uneven blocks): exact in each process's "
           << "rows, NaN in the others: " << (everywhere(exact) ? "ok" : "FAILS") << "\n";
+    }
+    {
+      // Two spaces of one mesh numbered by part at once, as the flow's
+      // (processes::distribute_dofs) and p-multigrid's Q1 level
+      // (number_dofs_by_part): for each size, a process's rows are exactly
+      // the dofs get_subdomain_association() gives its part (an interface
+      // dof goes with the part of smaller id), in blocks of whole nodes;
+      // the second space does not take the first one's rows away.
+      dealii::Triangulation<3> mesh;
+      dealii::GridGenerator::subdivided_hyper_rectangle(mesh, {6, 4, 3}, dealii::Point<3>(),
+                                                        dealii::Point<3>(3., 2., 1.));
+      dealii::DoFHandler<3>   fine(mesh), coarse(mesh);
+      const dealii::FESystem<3> q2(dealii::FE_Q<3>(2), 3), q1(dealii::FE_Q<3>(1), 3);
+      processes::distribute_dofs(fine, q2);
+      coarse.distribute_dofs(q1);
+      processes::number_dofs_by_part(coarse);
+      const auto by_part = [](const dealii::DoFHandler<3> &dofs) {
+        std::vector<dealii::types::subdomain_id> part(dofs.n_dofs());
+        dealii::DoFTools::get_subdomain_association(dofs, part);
+        const dealii::IndexSet own = processes::owned_rows(dofs.n_dofs(), 3);
+        bool                   ok  = own.n_elements() > 0;
+        for (dealii::types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+          ok = ok && (part[i] == processes::rank()) == own.is_element(i);
+        return ok;
+      };
+      const bool both = by_part(fine) && by_part(coarse);
+      out << "Q2 and Q1 velocity dofs of one mesh (" << fine.n_dofs() << " and " << coarse.n_dofs()
+          << ") numbered by part: each process owns its part's dofs of each: " << (everywhere(both) ? "ok" : "FAILS")
+          << "\n";
     }
     if (processes::writes_output())
       std::ofstream(file) << out.str();

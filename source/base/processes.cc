@@ -223,20 +223,22 @@ namespace dieflow
 
     namespace
     {
-      /// The rows own_rows_by_part() gave: process r's from first_of_part[r].
-      std::vector<dealii::types::global_dof_index> first_of_part;
+      /// The rows own_rows_by_part() gave, one partition per size (the
+      /// flow's dofs, p-multigrid's Q1 dofs): process r's from first[r].
+      std::vector<std::vector<dealii::types::global_dof_index>> parts_by_size;
 
       /// The first row of process @p r's block (owned_rows()).
       dealii::types::global_dof_index
       first_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r)
       {
-        if (first_of_part.size() == n_processes + 1 && first_of_part.back() == n)
-          {
-            if (first_of_part[r] % block != 0)
-              throw std::logic_error("processes::owned_rows: the parts' rows are not in blocks of " +
-                                     std::to_string(block));
-            return first_of_part[r];
-          }
+        for (const auto &first_of_part : parts_by_size)
+          if (first_of_part.back() == n)
+            {
+              if (first_of_part[r] % block != 0)
+                throw std::logic_error("processes::owned_rows: the parts' rows are not in blocks of " +
+                                       std::to_string(block));
+              return first_of_part[r];
+            }
         // In 64 bits: (n / block) r overflows a 32-bit index from n r = 2^32 on.
         const std::uint64_t blocks = n / block;
         return r == n_processes ? n :
@@ -292,6 +294,14 @@ namespace dieflow
 
 
 
+    dealii::types::global_dof_index
+    first_owned_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r)
+    {
+      return first_row(n, block, r);
+    }
+
+
+
     dealii::IndexSet
     owned_rows(const dealii::types::global_dof_index n, const unsigned int block)
     {
@@ -309,9 +319,12 @@ namespace dieflow
         return;
       if (rows_of_part.size() != n_processes)
         throw std::logic_error("processes::own_rows_by_part: one count per process");
-      first_of_part.assign(1, 0);
+      std::vector<dealii::types::global_dof_index> first_of_part(1, 0);
       for (const auto rows : rows_of_part)
         first_of_part.push_back(first_of_part.back() + rows);
+      const auto same_size = [&](const auto &other) { return other.back() == first_of_part.back(); };
+      parts_by_size.erase(std::remove_if(parts_by_size.begin(), parts_by_size.end(), same_size), parts_by_size.end());
+      parts_by_size.push_back(std::move(first_of_part));
     }
 
 
@@ -511,6 +524,15 @@ namespace dieflow
     {
       partition(const_cast<dealii::Triangulation<dim> &>(dof_handler.get_triangulation()));
       dof_handler.distribute_dofs(fe);
+      // A new mesh: the partitions of the last one's spaces are gone.
+      parts_by_size.clear();
+      number_dofs_by_part(dof_handler);
+    }
+
+    template <int dim>
+    void
+    number_dofs_by_part(dealii::DoFHandler<dim> &dof_handler)
+    {
       if (n_processes == 1)
         return;
       dealii::DoFRenumbering::subdomain_wise(dof_handler);
@@ -530,5 +552,9 @@ namespace dieflow
     distribute_dofs(dealii::DoFHandler<2> &, const dealii::FiniteElement<2> &);
     template void
     distribute_dofs(dealii::DoFHandler<3> &, const dealii::FiniteElement<3> &);
+    template void
+    number_dofs_by_part(dealii::DoFHandler<2> &);
+    template void
+    number_dofs_by_part(dealii::DoFHandler<3> &);
   } // namespace processes
 } // namespace dieflow

@@ -114,6 +114,7 @@ namespace dieflow
         blocks.reinit(dof_handler, hanging_node_constraints, PressureProjection<dim>::n_modes_for(fe));
         if (!saddle_point_solver)
           saddle_point_solver = std::make_unique<SaddlePointSolver<dim>>();
+        saddle_point_solver->reinit();
         saddle_point_solver->set_rigid_body_modes(rigid_body_modes(dof_handler));
         if (linear_solver.parameters.p_multigrid)
           saddle_point_solver->use_p_multigrid(dof_handler);

@@ -62,10 +62,9 @@ namespace dieflow
     create(const dealii::SparseMatrix<double> &a)
     {
       // The rows the matrix's sums are in (processes::RowSums).
-      const dealii::IndexSet rows = processes::owned_rows(a.m());
-      size                        = static_cast<PetscInt>(a.m());
-      first_row                   = static_cast<PetscInt>(rows.n_elements() > 0 ? rows.nth_index_in_set(0) : 0);
-      last_row                    = first_row + static_cast<PetscInt>(rows.n_elements());
+      size      = static_cast<PetscInt>(a.m());
+      first_row = static_cast<PetscInt>(processes::first_owned_row(a.m(), 1, processes::rank()));
+      last_row  = static_cast<PetscInt>(processes::first_owned_row(a.m(), 1, processes::rank() + 1));
       std::vector<PetscInt> diagonal(last_row - first_row), off_diagonal(last_row - first_row);
       for (PetscInt row = first_row; row < last_row; ++row)
         for (auto entry = a.begin(row); entry != a.end(row); ++entry)

@@ -19,6 +19,11 @@ namespace dieflow
   {
     coarse_dofs.reinit(dof_handler.get_triangulation());
     coarse_dofs.distribute_dofs(coarse_fe);
+    // On P > 1 numbered part by part as the flow's dofs are: each process
+    // then owns its part's Q1 rows, and the transfers P and P^T exchange
+    // only the entries at the parts' border (numbered as they come, the
+    // restriction imported some half of the fine vector at every cycle).
+    processes::number_dofs_by_part(coarse_dofs);
     coarse_modes = rigid_body_modes(coarse_dofs);
 
     const auto &               fe = dof_handler.get_fe();
@@ -267,7 +272,8 @@ namespace dieflow
     // the Q1 levels are cheap beside the Q2 smoothing (doc/benchmarks.md).
     amg_data.smoother_sweeps = 4;
     // Aggregates of whole nodes (the dim velocity components of a vertex,
-    // consecutive in coarse_dofs, which is never renumbered): smoothed
+    // consecutive in coarse_dofs; numbering by part keeps them so, as a
+    // vertex's dofs go with one part): smoothed
     // aggregation interpolates the rotations only where an aggregate holds
     // every component of its nodes (Vanek, Mandel, Brezina 1996). With
     // aggregates of single dofs the Krylov iterations per decade grow with

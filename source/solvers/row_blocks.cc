@@ -14,14 +14,6 @@ namespace dieflow
 {
   namespace
   {
-    /// The first index of @p set, a contiguous range (0 where it is empty:
-    /// a process may own no rows of a small block).
-    std::size_t
-    first_index(const dealii::IndexSet &set)
-    {
-      return set.n_elements() > 0 ? set.nth_index_in_set(0) : 0;
-    }
-
     /// A tag of its own for the products' messages.
     constexpr int import_tag = 17;
   } // namespace
@@ -31,26 +23,20 @@ namespace dieflow
   void
   RowLayout::reinit_rows(const size_type size, const unsigned int block)
   {
-    n     = size;
-    group = 1;
+    n         = size;
+    group     = 1;
+    row_block = block;
     own_groups.clear();
     owner_of_group.clear();
     place_of_group.clear();
-    grouped    = false;
-    local_size = processes::owned_rows(n, block).n_elements();
-    // Every process's start: the blocks follow each other in the order of
-    // the ranks (an empty block's IndexSet does not say where it is).
-    std::vector<std::uint64_t> sizes(processes::n(), local_size);
-    if (processes::n() > 1)
-      {
-        const std::uint64_t own = local_size;
-        MPI_Allgather(&own, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, processes::communicator());
-      }
-    starts.assign(processes::n() + 1, 0);
-    for (unsigned int q = 0; q < processes::n(); ++q)
-      starts[q + 1] = starts[q] + sizes[q];
+    grouped = false;
+    // Every process's start (processes::owned_rows(n, block)'s blocks).
+    starts.resize(processes::n() + 1);
+    for (unsigned int q = 0; q <= processes::n(); ++q)
+      starts[q] = processes::first_owned_row(n, block, q);
     AssertDimension(starts.back(), n);
-    first = starts[processes::rank()];
+    first      = starts[processes::rank()];
+    local_size = starts[processes::rank() + 1] - first;
     dealii::IndexSet owned(n);
     owned.add_range(first, first + local_size);
     partitioner = std::make_shared<dealii::Utilities::MPI::Partitioner>(owned, processes::communicator());
@@ -141,19 +127,17 @@ namespace dieflow
         std::copy(v.begin(), v.begin() + local_size, whole.begin());
         return;
       }
-    std::vector<int> counts(processes::n()), displacements(processes::n());
-    for (unsigned int q = 0; q < processes::n(); ++q)
-      {
-        const size_type begin = contiguous() ? starts[q] : offsets[q], end = contiguous() ? starts[q + 1] : offsets[q + 1];
-        displacements[q] = static_cast<int>(begin);
-        counts[q]        = static_cast<int>(end - begin);
-      }
     if (contiguous())
       {
         std::copy(v.begin(), v.begin() + local_size, whole.begin() + first);
-        MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, whole.data(), counts.data(), displacements.data(),
-                       MPI_DOUBLE, processes::communicator());
+        processes::gather(whole, row_block);
         return;
+      }
+    std::vector<int> counts(processes::n()), displacements(processes::n());
+    for (unsigned int q = 0; q < processes::n(); ++q)
+      {
+        displacements[q] = static_cast<int>(offsets[q]);
+        counts[q]        = static_cast<int>(offsets[q + 1] - offsets[q]);
       }
     // The parts in the order of the ranks, then each group to its place.
     std::vector<double> parts(n);
@@ -263,6 +247,17 @@ namespace dieflow
       return;
     import.reinit(m.get_sparsity_pattern(), row_layout, column_layout);
     whole_src.reinit(m.n());
+  }
+
+
+
+  void
+  RowBlockMatrix::reinit_values(const dealii::SparseMatrix<double> &m)
+  {
+    Assert(matrix != nullptr && &m.get_sparsity_pattern() == &matrix->get_sparsity_pattern(),
+           dealii::ExcMessage("reinit_values() needs a matrix of the pattern reinit() was given"));
+    matrix = &m;
+    values = processes::matrix_values(m);
   }
 
 
@@ -382,7 +377,7 @@ namespace dieflow
     // ML reads this process's rows of each near-null vector, one after the
     // other, while initialize() builds the hierarchy.
     const std::size_t n = matrix.m(), n_local = rows.n_elements(), n_modes = modes.size() / n;
-    const std::size_t first = first_index(rows);
+    const std::size_t first = processes::first_owned_row(n, pde_equations, processes::rank());
     // (at least one entry: ML stops a process whose null space pointer is null)
     local_modes.resize(std::max<std::size_t>(1, n_modes * n_local));
     for (std::size_t k = 0; k < n_modes; ++k)

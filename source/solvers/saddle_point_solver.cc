@@ -32,17 +32,19 @@ namespace dieflow
     {
     public:
       MixedOperator(const RowBlockMatrix &          A,
+                    const RowBlockMatrix &          gradient,
+                    const RowBlockMatrix &          divergence,
                     const MixedPenalty<dim> &       blocks,
                     const RowLayout &               pressure_layout,
                     const dealii::Vector<double> &  scale)
         : A(A)
+        , gradient(gradient)
+        , divergence(divergence)
         , blocks(blocks)
         , pressure_layout(pressure_layout)
         , scale(scale)
         , scale_squared_over_penalty(scale.size())
       {
-        gradient.reinit(blocks.gradient, A.row_layout(), pressure_layout);
-        divergence.reinit(blocks.divergence, pressure_layout, A.row_layout());
         for (unsigned int c = 0; c < scale.size(); ++c)
           scale_squared_over_penalty[c] = scale[c] * scale[c] / blocks.penalty[c];
       }
@@ -75,7 +77,8 @@ namespace dieflow
 
       /// A, B^T and B, their products divided among the MPI processes.
       const RowBlockMatrix &              A;
-      RowBlockMatrix                      gradient, divergence;
+      const RowBlockMatrix &              gradient;
+      const RowBlockMatrix &              divergence;
       const MixedPenalty<dim> &           blocks;
       const RowLayout &                   pressure_layout;
       const dealii::Vector<double> &      scale;
@@ -228,6 +231,15 @@ namespace dieflow
 
   template <int dim>
   void
+  SaddlePointSolver<dim>::reinit()
+  {
+    mesh_agreed = false;
+  }
+
+
+
+  template <int dim>
+  void
   SaddlePointSolver<dim>::set_rigid_body_modes(std::vector<double> rigid_body_modes)
   {
     modes = std::move(rigid_body_modes);
@@ -264,11 +276,27 @@ namespace dieflow
     for (unsigned int c = 0; c < blocks.n_cells; ++c)
       scale[c] = blocks.viscosity[c] / blocks.size[c];
 
-    // The velocity as the matrix's rows, the pressure by the cells' parts.
-    velocity_layout.reinit_rows(A.m());
-    pressure_layout.reinit_groups(blocks.part, blocks.n_modes);
-    velocity_block.reinit(A, velocity_layout, velocity_layout);
-    const MixedOperator<dim> op(velocity_block, blocks, pressure_layout, scale);
+    // The velocity as the matrix's rows, the pressure by the cells' parts,
+    // and the products' exchanges: they depend on the mesh alone, so they
+    // are agreed at its first solve (a pass over each process's rows of
+    // A's pattern, some 10^8 entries at 10^6 unknowns), then only the
+    // values are taken anew.
+    if (!mesh_agreed || velocity_layout.size() != A.m() || pressure_layout.size() != blocks.n_pressure())
+      {
+        velocity_layout.reinit_rows(A.m());
+        pressure_layout.reinit_groups(blocks.part, blocks.n_modes);
+        velocity_block.reinit(A, velocity_layout, velocity_layout);
+        gradient_block.reinit(blocks.gradient, velocity_layout, pressure_layout);
+        divergence_block.reinit(blocks.divergence, pressure_layout, velocity_layout);
+        mesh_agreed = true;
+      }
+    else
+      {
+        velocity_block.reinit_values(A);
+        gradient_block.reinit_values(blocks.gradient);
+        divergence_block.reinit_values(blocks.divergence);
+      }
+    const MixedOperator<dim> op(velocity_block, gradient_block, divergence_block, blocks, pressure_layout, scale);
     BlockVector              x(2);
     velocity_layout.reinit(x.block(0));
     pressure_layout.reinit(x.block(1));

@@ -164,17 +164,24 @@ namespace dieflow
     /// The rows of an @p n x @p n system this process owns in a distributed
     /// solve: a contiguous block, [n r / P, n (r + 1) / P) on process r,
     /// its ends rounded down to multiples of @p block (@p n one itself);
-    /// for the size own_rows_by_part() was last given, the blocks it gave.
+    /// for a size own_rows_by_part() was given, the blocks it last gave.
     dealii::IndexSet
     owned_rows(const dealii::types::global_dof_index n, const unsigned int block = 1);
+
+    /// The first of owned_rows(n, block) on process @p r (on r = P: n),
+    /// where its block starts even if it is empty; no communication.
+    dealii::types::global_dof_index
+    first_owned_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r);
 
     /**
      * Collective. From now on, the rows of an n x n system with n the sum
      * of @p rows_of_part are owned in the order of the ranks, process r the
      * next rows_of_part[r] (the flow's dofs numbered by the cells' parts,
      * DoFRenumbering::subdomain_wise: the rows of a process's cells then
-     * are its own, but at its part's border); other sizes as before. Every
-     * process must give the same.
+     * are its own, but at its part's border); other sizes as before, and
+     * as any other size given (one partition per size: the flow's dofs,
+     * p-multigrid's Q1 dofs; distribute_dofs() forgets the last mesh's).
+     * Every process must give the same.
      */
     void
     own_rows_by_part(const std::vector<dealii::types::global_dof_index> &rows_of_part);
@@ -215,6 +222,17 @@ namespace dieflow
     template <int dim>
     void
     distribute_dofs(dealii::DoFHandler<dim> &dof_handler, const dealii::FiniteElement<dim> &fe);
+
+    /**
+     * Collective. On P > 1, numbers the dofs of @p dof_handler (on the
+     * mesh distribute_dofs() partitioned) part by part and owns each
+     * part's block by its process, as distribute_dofs() does: for a second
+     * space on the same mesh (p-multigrid's Q1 level, whose rows and
+     * transfers then stay within the parts but at their border).
+     */
+    template <int dim>
+    void
+    number_dofs_by_part(dealii::DoFHandler<dim> &dof_handler);
 
     /// Whether this process assembles @p cell (its part).
     template <typename CellIterator>

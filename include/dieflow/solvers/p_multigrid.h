@@ -105,6 +105,8 @@ namespace dieflow
 
   private:
     dealii::FESystem<dim>                     coarse_fe{dealii::FE_Q<dim>(1), dim};
+    /// On P > 1 numbered part by part, as the flow's dofs
+    /// (processes::number_dofs_by_part()).
     dealii::DoFHandler<dim>                   coarse_dofs;
     std::vector<double>                       coarse_modes;
     /// The Q2 dof at the vertex of each Q1 dof (P's entry 1 in its column).

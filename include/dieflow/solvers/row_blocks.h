@@ -105,7 +105,8 @@ namespace dieflow
 
   private:
     size_type    n = 0, local_size = 0, first = 0;
-    unsigned int group   = 1;
+    /// Groups: their size; rows: the block their ends are multiples of.
+    unsigned int group = 1, row_block = 1;
     bool         grouped = false;
     /// Rows: where each process's block starts (P + 1 entries, the last n).
     std::vector<size_type> starts;
@@ -170,9 +171,16 @@ namespace dieflow
     using value_type = double;
 
     /// Collective. Refers to @p matrix, @p rows and @p columns (kept alive
-    /// and unchanged by the caller while this is used).
+    /// and unchanged by the caller while this is used), and agrees the
+    /// exchanges its products need, which depend on the pattern alone.
     void
     reinit(const dealii::SparseMatrix<double> &matrix, const RowLayout &rows, const RowLayout &columns);
+
+    /// Refers to @p matrix, of the pattern reinit() was given (new values,
+    /// as in each Newton iteration on one mesh): the exchanges are kept.
+    /// Not collective.
+    void
+    reinit_values(const dealii::SparseMatrix<double> &matrix);
 
     /// The matrix (on P > 1 its sums in this process's rows alone).
     const dealii::SparseMatrix<double> &

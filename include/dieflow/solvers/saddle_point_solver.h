@@ -79,6 +79,12 @@ namespace dieflow
     double       inner_tolerance      = 0;
     unsigned int max_inner_iterations = 200;
 
+    /// A new mesh (called before its first solve): the layouts of the
+    /// vectors and the exchanges of the products, which depend on the
+    /// mesh alone, are agreed anew at the next solve, not at every one.
+    void
+    reinit();
+
     /// The velocity's rigid-body modes (rigid_body_modes()).
     void
     set_rigid_body_modes(std::vector<double> modes);
@@ -115,8 +121,12 @@ namespace dieflow
     /// A's rows, the pressure modes by their cells' parts (each process
     /// holds its part of every Krylov vector).
     RowLayout                                 velocity_layout, pressure_layout;
-    /// A, its products divided among the MPI processes (before p_multigrid, which refers to it).
-    RowBlockMatrix                            velocity_block;
+    /// A, B^T and B, their products divided among the MPI processes (before
+    /// p_multigrid, which refers to A's).
+    RowBlockMatrix                            velocity_block, gradient_block, divergence_block;
+    /// Whether the layouts and the products' exchanges are those of this
+    /// mesh (reinit() clears it).
+    bool                                      mesh_agreed = false;
     RowBlockAMG                               velocity_preconditioner;
     std::unique_ptr<PMultigrid<dim>>          p_multigrid;
   };
