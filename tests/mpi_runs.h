@@ -119,6 +119,23 @@ namespace mpi_runs
     return same && gap < tolerance;
   }
 
+  /// die2d held land (up to 8 adaptive cycles) with Target error = 1e-3.
+  inline std::string
+  target_error_deck()
+  {
+    return shipped_deck("die2d-held-land.prm", {"set Write VTU = false", "set Cycles          = 8"}) +
+           "\nsubsection Refinement\n  set Target error = 1e-3\nend\n";
+  }
+
+  /// Whether the target_error_deck() runs @p a and @p b both converged and
+  /// stopped at the same cycle, before the last.
+  inline bool
+  same_stopping_cycle(const Run &a, const Run &b)
+  {
+    return a.status == 0 && b.status == 0 && a.summary.is_object() && b.summary.is_object() &&
+           a.summary["cycles"].size() == b.summary["cycles"].size() && a.summary["cycles"].size() < 8;
+  }
+
   /// The cells a .vtu file of deal.II's holds (the sum over its pieces); 0 if none or no file.
   inline long
   vtu_cells(const std::string &file)

@@ -226,24 +226,6 @@ namespace dieflow
       /// The rows own_rows_by_part() gave, one partition per size (the
       /// flow's dofs, p-multigrid's Q1 dofs): process r's from first[r].
       std::vector<std::vector<dealii::types::global_dof_index>> parts_by_size;
-
-      /// The first row of process @p r's block (owned_rows()).
-      dealii::types::global_dof_index
-      first_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r)
-      {
-        for (const auto &first_of_part : parts_by_size)
-          if (first_of_part.back() == n)
-            {
-              if (first_of_part[r] % block != 0)
-                throw std::logic_error("processes::owned_rows: the parts' rows are not in blocks of " +
-                                       std::to_string(block));
-              return first_of_part[r];
-            }
-        // In 64 bits: (n / block) r overflows a 32-bit index from n r = 2^32 on.
-        const std::uint64_t blocks = n / block;
-        return r == n_processes ? n :
-                                  static_cast<dealii::types::global_dof_index>(block * ((blocks * r) / n_processes));
-      }
     } // namespace
 
 
@@ -291,13 +273,20 @@ namespace dieflow
 
 
 
-
-
-
     dealii::types::global_dof_index
     first_owned_row(const dealii::types::global_dof_index n, const unsigned int block, const unsigned int r)
     {
-      return first_row(n, block, r);
+      for (const auto &first_of_part : parts_by_size)
+        if (first_of_part.back() == n)
+          {
+            if (first_of_part[r] % block != 0)
+              throw std::logic_error("processes::owned_rows: the parts' rows are not in blocks of " +
+                                     std::to_string(block));
+            return first_of_part[r];
+          }
+      // In 64 bits: (n / block) r overflows a 32-bit index from n r = 2^32 on.
+      const std::uint64_t blocks = n / block;
+      return r == n_processes ? n : static_cast<dealii::types::global_dof_index>(block * ((blocks * r) / n_processes));
     }
 
 
@@ -306,7 +295,7 @@ namespace dieflow
     owned_rows(const dealii::types::global_dof_index n, const unsigned int block)
     {
       dealii::IndexSet rows(n);
-      rows.add_range(first_row(n, block, rank()), first_row(n, block, rank() + 1));
+      rows.add_range(first_owned_row(n, block, rank()), first_owned_row(n, block, rank() + 1));
       return rows;
     }
 
@@ -340,7 +329,7 @@ namespace dieflow
         }
       std::vector<dealii::types::global_dof_index> first(n_processes + 1);
       for (unsigned int q = 0; q <= n_processes; ++q)
-        first[q] = first_row(m, block, q);
+        first[q] = first_owned_row(m, block, q);
 
       // 1. This process's entries in each other process's rows to their
       // owner (row, length, columns for each row with entries), which adds
@@ -472,8 +461,8 @@ namespace dieflow
       std::vector<int> counts(n_processes), offsets(n_processes);
       for (unsigned int r = 0; r < n_processes; ++r)
         {
-          offsets[r] = static_cast<int>(first_row(v.size(), block, r));
-          counts[r]  = static_cast<int>(first_row(v.size(), block, r + 1)) - offsets[r];
+          offsets[r] = static_cast<int>(first_owned_row(v.size(), block, r));
+          counts[r]  = static_cast<int>(first_owned_row(v.size(), block, r + 1)) - offsets[r];
         }
       MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, v.data(), counts.data(), offsets.data(), MPI_DOUBLE,
                      communicator());

@@ -239,9 +239,10 @@ namespace dieflow
   {
     AssertDimension(m.m(), row_layout.size());
     AssertDimension(m.n(), column_layout.size());
-    matrix = &m;
-    rows   = &row_layout;
-    values = processes::matrix_values(m);
+    matrix       = &m;
+    rows         = &row_layout;
+    values       = processes::matrix_values(m);
+    agreed_shape = {{m.m(), m.n(), m.n_nonzero_elements()}};
     whole_src.reinit(0);
     if (processes::n() == 1)
       return;
@@ -254,10 +255,18 @@ namespace dieflow
   void
   RowBlockMatrix::reinit_values(const dealii::SparseMatrix<double> &m)
   {
-    Assert(matrix != nullptr && &m.get_sparsity_pattern() == &matrix->get_sparsity_pattern(),
-           dealii::ExcMessage("reinit_values() needs a matrix of the pattern reinit() was given"));
+    Assert(has_pattern_of(m), dealii::ExcMessage("reinit_values() needs a matrix of the pattern reinit() was given"));
     matrix = &m;
     values = processes::matrix_values(m);
+  }
+
+
+
+  bool
+  RowBlockMatrix::has_pattern_of(const dealii::SparseMatrix<double> &m) const
+  {
+    return matrix != nullptr && &m.get_sparsity_pattern() == &matrix->get_sparsity_pattern() &&
+           agreed_shape == std::array<std::size_t, 3>{{m.m(), m.n(), m.n_nonzero_elements()}};
   }
 
 

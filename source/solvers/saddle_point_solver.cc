@@ -280,8 +280,10 @@ namespace dieflow
     // and the products' exchanges: they depend on the mesh alone, so they
     // are agreed at its first solve (a pass over each process's rows of
     // A's pattern, some 10^8 entries at 10^6 unknowns), then only the
-    // values are taken anew.
-    if (!mesh_agreed || velocity_layout.size() != A.m() || pressure_layout.size() != blocks.n_pressure())
+    // values are taken anew. reinit() marks a new mesh; the patterns'
+    // shapes are checked too, should a caller forget it.
+    if (!mesh_agreed || !velocity_block.has_pattern_of(A) || !gradient_block.has_pattern_of(blocks.gradient) ||
+        !divergence_block.has_pattern_of(blocks.divergence) || pressure_layout.size() != blocks.n_pressure())
       {
         velocity_layout.reinit_rows(A.m());
         pressure_layout.reinit_groups(blocks.part, blocks.n_modes);

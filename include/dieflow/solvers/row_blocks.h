@@ -11,6 +11,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -182,6 +183,13 @@ namespace dieflow
     void
     reinit_values(const dealii::SparseMatrix<double> &matrix);
 
+    /// Whether @p matrix may be given to reinit_values(): its pattern the
+    /// object reinit() was given, of the same size and number of entries
+    /// (a pattern made anew in place for another mesh seldom keeps both).
+    /// Not collective; on every process alike, as the patterns are whole.
+    bool
+    has_pattern_of(const dealii::SparseMatrix<double> &matrix) const;
+
     /// The matrix (on P > 1 its sums in this process's rows alone).
     const dealii::SparseMatrix<double> &
     whole() const
@@ -243,6 +251,8 @@ namespace dieflow
     const dealii::SparseMatrix<double> *matrix  = nullptr;
     const RowLayout *                   rows    = nullptr;
     const double *                      values  = nullptr;
+    /// The pattern reinit() agreed the exchanges for: rows, columns, entries.
+    std::array<std::size_t, 3>          agreed_shape{};
     ColumnImport                        import;
     /// The entries of src this process's rows read, at their whole indices.
     mutable dealii::Vector<double> whole_src;
