@@ -281,9 +281,15 @@ namespace dieflow
     // are agreed at its first solve (a pass over each process's rows of
     // A's pattern, some 10^8 entries at 10^6 unknowns), then only the
     // values are taken anew. reinit() marks a new mesh; the patterns'
-    // shapes are checked too, should a caller forget it.
-    if (!mesh_agreed || !velocity_block.has_pattern_of(A) || !gradient_block.has_pattern_of(blocks.gradient) ||
-        !divergence_block.has_pattern_of(blocks.divergence) || pressure_layout.size() != blocks.n_pressure())
+    // shapes are checked too, should a caller forget it. The agreement is
+    // collective and A's and B^T's patterns hold other rows' entries only
+    // at each process's border (RowSums), so a process may see a change
+    // the others do not: any one's verdict is every one's.
+    bool agree = !mesh_agreed || !velocity_block.has_pattern_of(A) || !gradient_block.has_pattern_of(blocks.gradient) ||
+                 !divergence_block.has_pattern_of(blocks.divergence) || pressure_layout.size() != blocks.n_pressure();
+    if (processes::n() > 1)
+      agree = dealii::Utilities::MPI::max(agree ? 1 : 0, processes::communicator()) == 1;
+    if (agree)
       {
         velocity_layout.reinit_rows(A.m());
         pressure_layout.reinit_groups(blocks.part, blocks.n_modes);

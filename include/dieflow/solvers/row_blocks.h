@@ -186,7 +186,9 @@ namespace dieflow
     /// Whether @p matrix may be given to reinit_values(): its pattern the
     /// object reinit() was given, of the same size and number of entries
     /// (a pattern made anew in place for another mesh seldom keeps both).
-    /// Not collective; on every process alike, as the patterns are whole.
+    /// Not collective, and a pattern that holds other processes' rows only
+    /// at the border (RowSums) may change on some processes alone: a
+    /// caller that agrees anew on its verdict reduces it over the processes.
     bool
     has_pattern_of(const dealii::SparseMatrix<double> &matrix) const;
 
