@@ -28,7 +28,8 @@
 //    together one process's) listed by a .pvtu, no partial or probe files;
 //  - the iterative solvers across processes: tests/mpi_iterative_solvers;
 //  - the refusals on 2 processes, one line each, exit 1: a run in time,
-//    fewer than two cells per process.
+//    fewer than two cells per process, and 2 processes started by another
+//    MPI's launcher (each of which sees itself alone).
 #include "mpi_runs.h"
 
 using namespace mpi_runs;
@@ -139,4 +140,28 @@ main(int argc, char **argv)
              run.status == 1 && one_line(run.error) && run.error.find("error: " + std::string(entry)) != std::string::npos);
       std::cout << run.error;
     }
+
+  // Another MPI's launcher (MPICH's Hydra, whose PMI_SIZE and PMI_RANK
+  // Open MPI does not read): its 2 processes each see MPI's world as 1.
+  // Launched here by hand, as Hydra would, without mpirun.
+  std::filesystem::create_directories("mismatch");
+  std::ofstream("mismatch/deck.prm") << test_deck("adaptive_poiseuille.prm") << "\nset Output directory = mismatch/results\n";
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  std::vector<int>  status;
+  std::vector<std::string> lines;
+  for (const char *rank : {"0", "1"})
+    {
+      const std::string err     = std::string("mismatch/err") + rank + ".txt";
+      const int         exit_is = std::system(("env -u OMPI_COMM_WORLD_SIZE PMI_SIZE=2 PMI_RANK=" + std::string(rank) + " " +
+                                       self + " --deck mismatch/deck.prm > /dev/null 2> " + err)
+                                        .c_str());
+      status.push_back(WIFEXITED(exit_is) ? WEXITSTATUS(exit_is) : -1);
+      lines.push_back(file_contents(err));
+    }
+  report("2 processes of another MPI's launcher, each seeing itself alone: exit 1 on both, one line from the first "
+         "naming the processes started and seen, no results",
+         status == std::vector<int>{1, 1} && one_line(lines[0]) &&
+           lines[0].find("error: the launcher started 2 processes, but MPI (") != std::string::npos &&
+           lines[0].find(") sees 1") != std::string::npos && lines[1].empty() &&
+           !std::filesystem::exists("mismatch/results/summary.json"));
 }

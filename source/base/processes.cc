@@ -94,20 +94,54 @@ namespace dieflow
     {
       if (launched().first <= 1)
         return;
-      int provided = 0;
-      MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+      // A program that embeds the run may have started MPI (a test that
+      // limits its memory once MPI has mapped its segments): it ends it.
+      int initialised = 0;
+      MPI_Initialized(&initialised);
+      if (initialised == 0)
+        {
+          int provided = 0;
+          MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+          owns_mpi = true;
+        }
       int size = 1, rank = 0;
       MPI_Comm_size(MPI_COMM_WORLD, &size);
       MPI_Comm_rank(MPI_COMM_WORLD, &rank);
       n_processes = static_cast<unsigned int>(size);
       this_rank   = static_cast<unsigned int>(rank);
+      if (n_processes != launched().first)
+        {
+          // MPI_Get_library_version names the build's MPI ("Open MPI v4.1.4, ...").
+          char library[MPI_MAX_LIBRARY_VERSION_STRING] = {};
+          int  length                                   = 0;
+          MPI_Get_library_version(library, &length);
+          const std::string name(library, std::find(library, library + length, ','));
+          mismatch = "the launcher started " + std::to_string(launched().first) + " processes, but MPI (" + name +
+                     ") sees " + std::to_string(n_processes) +
+                     ": this program was built with another MPI than the launcher's; launch it with the mpirun of " +
+                     name + " (Debian: openmpi-bin)";
+        }
       // PETSc's own handlers would take SIGINT and SIGTERM from the
       // program's (interrupt.h), and its error handler would print a
       // traceback where the program reports one line.
-      PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
-      PetscInitializeNoArguments();
+      PetscBool petsc_initialised = PETSC_FALSE;
+      PetscInitialized(&petsc_initialised);
+      if (petsc_initialised == PETSC_FALSE)
+        {
+          PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+          PetscInitializeNoArguments();
+          owns_petsc = true;
+        }
       PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
       started = true;
+    }
+
+
+
+    const std::string &
+    Session::launch_error() const
+    {
+      return mismatch;
     }
 
 
@@ -116,8 +150,11 @@ namespace dieflow
     {
       if (!started)
         return;
-      PetscFinalize();
-      MPI_Finalize();
+      PetscPopErrorHandler();
+      if (owns_petsc)
+        PetscFinalize();
+      if (owns_mpi)
+        MPI_Finalize();
       n_processes = 1;
       this_rank   = 0;
     }

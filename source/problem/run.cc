@@ -307,7 +307,14 @@ namespace dieflow
     // Under mpirun -np P the processes run the deck together
     // (processes.h); the first writes the files and the screen lines.
     const processes::Session session;
-    const bool               first = processes::writes_output();
+    if (!session.launch_error().empty())
+      {
+        // Every process believes it is the first: the launcher's rank says which one reports.
+        if (processes::launched().second == 0)
+          std::cerr << "dieflow: error: " << session.launch_error() << std::endl;
+        return exit_bad_input;
+      }
+    const bool first = processes::writes_output();
     try
       {
         if (argument == "--print-parameters")

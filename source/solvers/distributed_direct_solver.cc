@@ -5,10 +5,12 @@
 
 #include <deal.II/base/mpi.h>
 
-#include <petscksp.h>
+#include <petscmat.h>
 
 #include <algorithm>
 #include <exception>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -39,10 +41,14 @@ namespace dieflow
 
   struct DistributedDirectSolver::Petsc
   {
-    Mat      matrix    = nullptr;
-    KSP      ksp       = nullptr;
+    Mat      matrix = nullptr;
+    /// MUMPS's LU of the matrix (PETSc's factor matrix).
+    Mat      factor    = nullptr;
     PetscInt first_row = 0, last_row = 0, size = 0;
     bool     factorised = false;
+    /// From the analysis (DistributedDirectSolver::memory_ratio(), memory_need()).
+    double      memory_ratio = 0;
+    std::string memory_need;
 
     ~Petsc()
     {
@@ -51,13 +57,14 @@ namespace dieflow
       // ended by MPI_Abort, run.cc).
       if (std::uncaught_exceptions() > 0)
         return;
-      if (ksp != nullptr)
-        KSPDestroy(&ksp);
+      if (factor != nullptr)
+        MatDestroy(&factor);
       if (matrix != nullptr)
         MatDestroy(&matrix);
     }
 
-    /// The PETSc matrix of @p a's pattern, this process's rows preallocated exactly.
+    /// The PETSc matrix of @p a's pattern, this process's rows preallocated
+    /// exactly, and MUMPS's factor of it.
     void
     create(const dealii::SparseMatrix<double> &a)
     {
@@ -76,12 +83,7 @@ namespace dieflow
       check(MatCreateAIJ(processes::communicator(), local, local, size, size, 0, diagonal.data(), 0, off_diagonal.data(), &matrix),
             "MatCreateAIJ");
       check(MatSetOption(matrix, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
-      check(KSPCreate(processes::communicator(), &ksp), "KSPCreate");
-      check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-      PC pc = nullptr;
-      check(KSPGetPC(ksp, &pc), "KSPGetPC");
-      check(PCSetType(pc, PCLU), "PCSetType");
-      check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+      check(MatGetFactor(matrix, MATSOLVERMUMPS, MAT_FACTOR_LU, &factor), "MatGetFactor");
     }
 
     /// This process's rows of @p a into the PETSc matrix.
@@ -105,7 +107,33 @@ namespace dieflow
       check(MatAssemblyBegin(matrix, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
       check(MatAssemblyEnd(matrix, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
     }
+
+    /// The worst of the processes' factorisation errors (every process must
+    /// agree: a zero pivot is met by one), as MatFactorError.
+    MatFactorError
+    worst_error() const
+    {
+      MatFactorError error = MAT_FACTOR_NOERROR;
+      check(MatFactorGetError(factor, &error), "MatFactorGetError");
+      return static_cast<MatFactorError>(dealii::Utilities::MPI::max(static_cast<int>(error), processes::communicator()));
+    }
   };
+
+
+
+  namespace
+  {
+    /// The message of a factorisation's @p error.
+    std::string
+    failure(const MatFactorError error)
+    {
+      return std::string("MUMPS could not factorise the Newton system (") +
+             (error == MAT_FACTOR_OUTMEMORY ? "out of memory, or its workspace estimate too small: run on more processes "
+                                              "or machines, or set Linear solver/Method = iterative)" :
+              error == MAT_FACTOR_OTHER     ? "MUMPS's error)" :
+                                              "singular)");
+    }
+  } // namespace
 
 
 
@@ -122,37 +150,117 @@ namespace dieflow
 
 
 
+  bool
+  DistributedDirectSolver::analyse(const dealii::SparseMatrix<double> &matrix)
+  {
+    if (petsc != nullptr && petsc->size == static_cast<PetscInt>(matrix.m()))
+      return false;
+    petsc = std::make_unique<Petsc>();
+    petsc->create(matrix);
+    // MUMPS's analysis (ordering, symbolic factorisation) reads the values
+    // too: it scales and permutes by them (ICNTL(6), ICNTL(8)).
+    petsc->copy_rows(matrix);
+    MatFactorInfo info;
+    check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
+    // MUMPS orders the matrix itself: PETSc's row and column orderings are not asked for.
+    check(MatLUFactorSymbolic(petsc->factor, petsc->matrix, nullptr, nullptr, &info), "MatLUFactorSymbolic");
+    if (const MatFactorError error = petsc->worst_error(); error != MAT_FACTOR_NOERROR)
+      {
+        petsc.reset();
+        throw SolverFailure(failure(error));
+      }
+    weigh_memory();
+    return true;
+  }
+
+
+
+  void
+  DistributedDirectSolver::weigh_memory()
+  {
+    // INFO(15): the MB (of 10^6 bytes) MUMPS's analysis says this process's
+    // factorisation and solves take in core; negative in millions of MB.
+    PetscInt megabytes = 0;
+    check(MatMumpsGetInfo(petsc->factor, 15, &megabytes), "MatMumpsGetInfo");
+    const double own = megabytes >= 0 ? 1e6 * static_cast<double>(megabytes) : -1e12 * static_cast<double>(megabytes);
+
+    // The processes on a machine share its free memory; each has its own
+    // address space's limit.
+    const MPI_Comm world   = processes::communicator();
+    MPI_Comm       machine = MPI_COMM_NULL;
+    MPI_Comm_split_type(world, MPI_COMM_TYPE_SHARED, static_cast<int>(processes::rank()), MPI_INFO_NULL, &machine);
+    const double on_machine      = dealii::Utilities::MPI::sum(own, machine);
+    const double largest         = dealii::Utilities::MPI::max(own, machine);
+    const double free_there      = dealii::Utilities::MPI::min(LinearSolver::machine_memory(), machine);
+    const int    processes_there = static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(machine));
+    MPI_Comm_free(&machine);
+    const double room = LinearSolver::address_space_room();
+
+    const double machine_ratio = free_there > 0 ? on_machine / free_there : 0.;
+    const double own_ratio     = room > 0 ? own / room : 0.;
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(2) << "MUMPS's factorisation of " << petsc->size << " unknowns needs about ";
+    if (machine_ratio >= own_ratio)
+      text << on_machine / 1e9 << " GB on a machine of " << processes_there << " of the " << processes::n()
+           << " processes (from its analysis; " << largest / 1e9 << " GB on the largest), more than the " << free_there / 1e9
+           << " GB free there";
+    else
+      text << own / 1e9 << " GB on MPI process " << processes::rank() << " (from its analysis), more than the " << room / 1e9
+           << " GB its address space may still take (ulimit -v)";
+
+    // Every process must take the same decisions: the worst ratio, told by
+    // the process that found it.
+    struct
+    {
+      double ratio;
+      int    rank;
+    } worst{std::max(machine_ratio, own_ratio), static_cast<int>(processes::rank())};
+    MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+    petsc->memory_ratio = worst.ratio;
+    std::string  told   = text.str();
+    unsigned int length = static_cast<unsigned int>(told.size());
+    MPI_Bcast(&length, 1, MPI_UNSIGNED, worst.rank, world);
+    told.resize(length);
+    MPI_Bcast(told.data(), static_cast<int>(length), MPI_CHAR, worst.rank, world);
+    petsc->memory_need = told;
+  }
+
+
+
+  double
+  DistributedDirectSolver::memory_ratio() const
+  {
+    Assert(petsc != nullptr, dealii::ExcMessage("memory_ratio() before analyse()"));
+    return petsc->memory_ratio;
+  }
+
+
+
+  const std::string &
+  DistributedDirectSolver::memory_need() const
+  {
+    Assert(petsc != nullptr, dealii::ExcMessage("memory_need() before analyse()"));
+    return petsc->memory_need;
+  }
+
+
+
   void
   DistributedDirectSolver::factorize(const dealii::SparseMatrix<double> &matrix)
   {
-    if (petsc == nullptr || petsc->size != static_cast<PetscInt>(matrix.m()))
-      {
-        petsc = std::make_unique<Petsc>();
-        petsc->create(matrix);
-      }
+    if (!analyse(matrix))
+      petsc->copy_rows(matrix);
     petsc->factorised = false;
-    petsc->copy_rows(matrix);
-    // The same pattern: PETSc's LU keeps MUMPS's analysis and factorises anew.
-    check(KSPSetOperators(petsc->ksp, petsc->matrix, petsc->matrix), "KSPSetOperators");
-    check(KSPSetUp(petsc->ksp), "KSPSetUp");
-    PC pc = nullptr;
-    check(KSPGetPC(petsc->ksp, &pc), "KSPGetPC");
-    PCFailedReason reason = PC_NOERROR;
-    check(PCGetFailedReason(pc, &reason), "PCGetFailedReason");
-    // Every process must agree on the failure (a zero pivot is met by one):
-    // the worst reason of any (the set-up error, -1, taken as the worst).
-    const int worst = dealii::Utilities::MPI::max(
-      reason == PC_NOERROR ? 0 : reason == PC_SETUP_ERROR ? 100 : static_cast<int>(reason), processes::communicator());
-    if (worst != 0)
+    MatFactorInfo info;
+    check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
+    // The same pattern: MUMPS's analysis is kept, the factorisation made anew.
+    check(MatLUFactorNumeric(petsc->factor, petsc->matrix, &info), "MatLUFactorNumeric");
+    if (const MatFactorError error = petsc->worst_error(); error != MAT_FACTOR_NOERROR)
       {
         // MUMPS keeps a failed factorisation's error for the pattern: the
         // next factorisation starts afresh.
         petsc.reset();
-        throw SolverFailure(std::string("MUMPS could not factorise the Newton system (") +
-                            (worst == 100 ? "SETUP_ERROR" : PCFailedReasons[worst]) +
-                            (worst == PC_FACTOR_OUTMEMORY ?
-                               "): out of memory, or its workspace estimate too small: run on more processes or machines" :
-                               "): singular"));
+        throw SolverFailure(failure(error));
       }
     petsc->factorised = true;
   }
@@ -169,7 +277,7 @@ namespace dieflow
     check(VecGetArray(b, &entries), "VecGetArray");
     std::copy(rhs.begin() + petsc->first_row, rhs.begin() + petsc->last_row, entries);
     check(VecRestoreArray(b, &entries), "VecRestoreArray");
-    check(transpose ? KSPSolveTranspose(petsc->ksp, b, x) : KSPSolve(petsc->ksp, b, x), "KSPSolve");
+    check(transpose ? MatSolveTranspose(petsc->factor, b, x) : MatSolve(petsc->factor, b, x), "MatSolve");
     // Onto every process, the same bits.
     VecScatter to_all = nullptr;
     check(VecScatterCreateToAll(x, &to_all, &all), "VecScatterCreateToAll");

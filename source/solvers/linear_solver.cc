@@ -23,6 +23,7 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <utility>
 
 namespace dieflow
 {
@@ -156,9 +157,29 @@ namespace dieflow
         // which the serial path's estimate and cap do not describe).
         if (!distributed)
           distributed = std::make_unique<DistributedDirectSolver>();
-        const bool analysed = distributed->has_factorisation();
+        const bool fallback = std::exchange(next_is_fallback, false);
+        // Weighed once per analysis, before MUMPS allocates: later
+        // factorisations of the pattern take the memory the first freed.
+        if (distributed->analyse(matrix))
+          {
+            ++counts.symbolic_analyses;
+            if (distributed->memory_ratio() > 1)
+              {
+                const std::string need = distributed->memory_need();
+                distributed->reset();
+                throw ResourceFailure(
+                  fallback ?
+                    "the iterative linear solver did not converge, and its direct fallback: " + need +
+                      ": loosen Linear solver/Iterative tolerance, run on more machines, or solve a coarser mesh first "
+                      "and refine (Refinement/Cycles)" :
+                    "Linear solver/Method: " + need + ": set Method = iterative" +
+                      (parameters.method == LinearSolverParameters::Method::automatic ?
+                         " (auto chose the direct solver for this mesh)" :
+                         " (or auto)") +
+                      ", run on more machines, or solve a coarser mesh");
+              }
+          }
         distributed->factorize(matrix);
-        counts.symbolic_analyses += analysed ? 0 : 1;
         ++counts.lu_factorisations;
         return;
       }
@@ -373,7 +394,7 @@ namespace dieflow
 
 
   double
-  LinearSolver::available_memory()
+  LinearSolver::machine_memory()
   {
     // The machine's free memory (MemAvailable) ...
     std::ifstream meminfo("/proc/meminfo");
@@ -381,31 +402,46 @@ namespace dieflow
     double        kilobytes = 0;
     while (meminfo >> key >> kilobytes && key != "MemAvailable:")
       meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-    double     available = key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
-    const auto at_most   = [&](const double room) {
-      if (available == 0 || room < available)
-        available = std::max(room, 1.);
-    };
-    // ... no more than the address space this process may still take
-    // (ulimit -v): the limit less what is mapped, plus what the allocator
-    // holds free for reuse (freed memory stays mapped in its arenas) ...
-    struct rlimit limit;
-    if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
-      {
-        // OpenBLAS maps a work buffer of 128 MB per thread at its first
-        // call and, where it cannot, retries for ever (seen hung in
-        // CHOLMOD's dpotrf under ulimit -v): that much is kept back until
-        // a factorisation has run (then the buffers are in VmSize).
-        const double blas_buffers = blas_buffers_mapped ? 0. : blas_buffer_bytes();
-        at_most(static_cast<double>(limit.rlim_cur) - mapped_memory() + static_cast<double>(mallinfo2().fordblks) -
-                blas_buffers);
-      }
+    double available = key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
     // ... and no more than the control group's limit leaves (a container's).
     std::ifstream max("/sys/fs/cgroup/memory.max");
     std::string   text;
     if (max >> text && text != "max")
-      at_most(std::stod(text) - number_in("/sys/fs/cgroup/memory.current"));
+      {
+        const double room = std::max(std::stod(text) - number_in("/sys/fs/cgroup/memory.current"), 1.);
+        if (available == 0 || room < available)
+          available = room;
+      }
     return available;
+  }
+
+
+
+  double
+  LinearSolver::address_space_room()
+  {
+    // The limit less what is mapped, plus what the allocator holds free for
+    // reuse (freed memory stays mapped in its arenas).
+    struct rlimit limit;
+    if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY)
+      return 0.;
+    // OpenBLAS maps a work buffer of 128 MB per thread at its first call
+    // and, where it cannot, retries for ever (seen hung in CHOLMOD's dpotrf
+    // under ulimit -v): that much is kept back until a factorisation has
+    // run (then the buffers are in VmSize).
+    const double blas_buffers = blas_buffers_mapped ? 0. : blas_buffer_bytes();
+    return std::max(static_cast<double>(limit.rlim_cur) - mapped_memory() + static_cast<double>(mallinfo2().fordblks) -
+                      blas_buffers,
+                    1.);
+  }
+
+
+
+  double
+  LinearSolver::available_memory()
+  {
+    const double machine = machine_memory(), room = address_space_room();
+    return machine == 0 ? room : room == 0 ? machine : std::min(machine, room);
   }
 
 
@@ -413,10 +449,23 @@ namespace dieflow
   bool
   LinearSolver::direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix)
   {
-    // Across processes the direct solver is MUMPS, its memory divided
-    // among them, which CHOLMOD's analysis does not describe (doc/parallel.md).
     if (processes::n() > 1)
-      return true;
+      {
+        // Across processes the direct solver is MUMPS, its memory divided
+        // among them as its own analysis says. The matrix is not assembled
+        // yet and MUMPS's analysis reads values (it scales and permutes by
+        // them): a trial analysis of the pattern with a unit diagonal, its
+        // memory weighed as factorize() weighs it, then forgotten.
+        if (!analysis_needed(dim, matrix.m(), dealii::Utilities::MPI::min(available_memory(), processes::communicator())))
+          return true;
+        dealii::SparseMatrix<double> unit(matrix.get_sparsity_pattern());
+        for (const auto row : processes::owned_rows(matrix.m()))
+          unit.set(row, row, 1.);
+        DistributedDirectSolver trial;
+        trial.analyse(unit);
+        ++counts.symbolic_analyses;
+        return trial.memory_ratio() <= 0.5;
+      }
     const double available = available_memory();
     if (!analysis_needed(dim, matrix.m(), available))
       return true;
@@ -460,7 +509,8 @@ namespace dieflow
   double
   LinearSolver::direct_fallback_bytes(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
-    // Across processes the fallback is MUMPS's, its memory divided (see factorize()).
+    // Across processes the fallback is MUMPS's, weighed by its own analysis
+    // when factorize() comes to it (that of the matrix then, the penalty form's).
     const double available = available_memory();
     if (processes::n() > 1 || !analysis_needed(dim, matrix.m(), available))
       return 0.;
@@ -482,6 +532,12 @@ namespace dieflow
   void
   LinearSolver::require_direct_fallback_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix, const bool symmetric)
   {
+    if (processes::n() > 1)
+      {
+        // MUMPS's analysis weighs the fallback in factorize(): its refusal then names this one's remedies.
+        next_is_fallback = true;
+        return;
+      }
     const double needed    = direct_fallback_bytes(dim, matrix, symmetric);
     const double available = available_memory();
     if (needed == 0 || needed <= available)

@@ -17,6 +17,7 @@
 #include <cstdint>
 
 #include <ostream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -68,7 +69,8 @@ namespace dieflow
      * MPI and PETSc for the lifetime of a run on more than one process:
      * MPI_Init_thread (threads call no MPI: funnelled), PETSc without its
      * signal handlers (the program's own SIGINT/SIGTERM handling stays);
-     * finalised in reverse order. With one process it does nothing.
+     * finalised in reverse order. Either, started before, is left to its
+     * starter. With one process it does nothing.
      */
     class Session
     {
@@ -79,8 +81,21 @@ namespace dieflow
       Session &
       operator=(const Session &) = delete;
 
+      /**
+       * Empty where MPI sees the processes the launcher started; else the
+       * one line that says they differ: a launcher of another MPI than the
+       * one this program was built with (MPICH's mpiexec for a build with
+       * Open MPI, say) starts P processes that each see themselves as the
+       * only one, and would each run the whole deck into the same files.
+       */
+      const std::string &
+      launch_error() const;
+
     private:
       bool started = false;
+      /// Whether this Session started MPI and PETSc (and so ends them).
+      bool        owns_mpi = false, owns_petsc = false;
+      std::string mismatch;
     };
 
     /// The processes of this run (1 without a Session), and this one's rank.

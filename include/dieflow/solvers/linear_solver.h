@@ -225,7 +225,10 @@ namespace dieflow
     /// exceeds the memory free (available_memory()), or where the
     /// factorisation runs out of it: it runs with the address space capped
     /// at the memory free, so that it fails instead of the kernel killing
-    /// the process.
+    /// the process. On more than one process, MUMPS's analysis of each new
+    /// pattern weighs its factorisation before it allocates it: refused, on
+    /// every process alike, where a machine's processes together, or one
+    /// process alone, would need more than is free.
     void
     factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric);
 
@@ -295,7 +298,9 @@ namespace dieflow
      * mesh of dimension @p dim) take at most half the memory free now, from
      * CHOLMOD's analysis of the pattern, asked only where the measured
      * estimate (direct_memory_estimate()) exceeds a quarter of the free
-     * memory. (Method = auto solves iteratively where they do not.)
+     * memory (on more than one process, MUMPS's analysis, weighed as
+     * DistributedDirectSolver::analyse() says). (Method = auto solves
+     * iteratively where they do not.)
      */
     bool
     direct_fits(const unsigned int dim, const dealii::SparseMatrix<double> &matrix);
@@ -313,6 +318,17 @@ namespace dieflow
     /// or its control group's limit leaves; 0 where there is no such figure.
     static double
     available_memory();
+
+    /// What available_memory() takes from the machine, shared by its
+    /// processes: MemAvailable, no more than the control group leaves (0
+    /// where unknown).
+    static double
+    machine_memory();
+
+    /// What available_memory() takes from this process's limit: the address
+    /// space it may still take (ulimit -v; 0 where unlimited).
+    static double
+    address_space_room();
 
     /// Solves @p matrix x = @p rhs iteratively, or, if that fails, directly
     /// (for a mesh of dimension @p dim, where that fits in memory).
@@ -342,6 +358,10 @@ namespace dieflow
     std::unique_ptr<IterativeSolver> iterative_solver;
     /// Made on first use on more than one process (processes.h).
     std::unique_ptr<DistributedDirectSolver> distributed;
+    /// Set by require_direct_fallback_fits() on more than one process: the
+    /// next factorisation is the fallback's, whose refusal (MUMPS's analysis
+    /// is made in factorize()) names the iterative solve's remedies.
+    bool next_is_fallback = false;
   };
 } // namespace dieflow
 
