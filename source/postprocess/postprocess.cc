@@ -531,25 +531,21 @@ namespace dieflow
                   const Vector<double> &        velocity,
                   const dealii::Function<dim> & exact)
   {
-    const auto &      triangulation = dof_handler.get_triangulation();
-    Vector<float>     per_cell(triangulation.n_active_cells());
+    Vector<float>             per_cell(dof_handler.get_triangulation().n_active_cells());
     const dealii::QGauss<dim> quadrature(dof_handler.get_fe().degree + 2);
     // On a shared mesh (P > 1) integrate_difference gives this process's
     // cells alone (the others 0) and compute_global_error all-reduces: each
-    // cell's error is summed from its owner instead (exactly: the others add
-    // zeros), and the norm is compute_global_error's on a plain mesh, the
-    // same bits on every process and as on one.
+    // cell's error is summed from its owner instead (exact: the others add
+    // zeros), the norm compute_global_error's on a plain mesh.
     const auto global = [&](const dealii::VectorTools::NormType norm) {
       dealii::VectorTools::integrate_difference(dof_handler, velocity, exact, per_cell, quadrature, norm);
       Vector<double> whole(per_cell);
       processes::sum(whole);
-      per_cell            = whole;
+      per_cell           = whole;
       const double local = per_cell.l2_norm();
       return std::sqrt(local * local);
     };
-    const double l2 = global(dealii::VectorTools::L2_norm);
-    const double h1 = global(dealii::VectorTools::H1_seminorm);
-    return {l2, h1};
+    return {global(dealii::VectorTools::L2_norm), global(dealii::VectorTools::H1_seminorm)};
   }
 
 
