@@ -23,7 +23,11 @@
 //    cells;
 //  - a Target error run stops at the same cycle on 2 as on 1;
 //  - the dual-weighted indicator (an adjoint solve with J^T) refines the
-//    same cells on 2 as on 1;
+//    same cells on 2 as on 1, and the dual-weighted estimate (only
+//    reported) agrees within 1e-6 of the ram force (measured 2.4e-7 N/mm
+//    of 2470: 1e-10; the dual's interpolations left to deal.II's, which
+//    on the shared mesh see a process's cells alone, gave 0 and -6.9
+//    where one process gives -0.054 and -0.0073);
 //  - one summary.json, a VTU piece per process and cycle (their cells
 //    together one process's) listed by a .pvtu, no partial or probe files;
 //  - the iterative solvers across processes: tests/mpi_iterative_solvers;
@@ -119,11 +123,31 @@ main(int argc, char **argv)
   }
   {
     // The dual-weighted indicator solves the adjoint with J^T (MUMPS's transposed solve).
-    const std::string deck = shipped_deck(
-      "die2d-held-land.prm", {"set Write VTU = false", "set Cycles          = 3", "set Indicator       = dual weighted"});
+    // The dual-weighted estimate (the adjoint at degree + 1: its pattern and
+    // interpolations over every cell, whole_mesh.h) is only reported, so no
+    // hash compares it across processes: compared here.
+    const std::string deck =
+      shipped_deck("die2d-held-land.prm",
+                   {"set Write VTU = false", "set Cycles          = 3", "set Indicator       = dual weighted"}) +
+      "\nsubsection Refinement\n  set Dual-weighted estimate = true\nend\n";
+    const Run  one = launch("dual", deck, 1), two = launch("dual", deck, 2);
+    const bool answer = same_answer(one, two, 1e-6, true, gap);
     report("die2d held land refined by the dual-weighted indicator (an adjoint solve) on 2 processes: the same cells "
            "and answer as on 1",
-           same_answer(launch("dual", deck, 1), launch("dual", deck, 2), 1e-6, true, gap));
+           answer);
+    bool estimates = answer;
+    for (unsigned int c = 0; estimates && c < one.summary["cycles"].size(); ++c)
+      {
+        // At the ram force's scale: the estimate is a small sum of larger
+        // parts (-0.0073 in the second cycle), whose round-off it keeps.
+        const Json &  cycle = one.summary["cycles"][c];
+        const Json &  x = cycle["dual_weighted_error"], &y = two.summary["cycles"][c]["dual_weighted_error"];
+        const double force = std::abs(cycle["quantities"]["F_x[1]"].get<double>());
+        estimates = x.is_number() && y.is_number() && std::abs(x.get<double>() - y.get<double>()) < 1e-6 * force;
+      }
+    report("  its dual-weighted estimate of the ram force's error per cycle within 1e-6 of the ram force of one "
+           "process's",
+           estimates);
   }
 
   // The refusals.

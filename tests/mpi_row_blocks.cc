@@ -43,8 +43,8 @@
 //  - RowBlockMatrix::has_pattern_of: a pattern made anew in place (the
 //    same object and size, other and more entries) is told from the one reinit()
 //    agreed the exchanges for, which is kept;
-//  - two spaces of one mesh (Q2 and Q1 velocity) numbered by part at once
-//    (processes::distribute_dofs, number_dofs_by_part): each process owns
+//  - two spaces of one shared mesh (Q2 and Q1 velocity) numbered by part
+//    at once (processes::distribute_dofs, number_dofs_by_part): each process owns
 //    exactly the dofs DoFTools::get_subdomain_association gives its part,
 //    in each space.
 #include <dieflow/base/processes.h>
@@ -541,10 +541,11 @@ namespace
       // the dofs get_subdomain_association() gives its part (an interface
       // dof goes with the part of smaller id), in blocks of whole nodes;
       // the second space does not take the first one's rows away.
-      dealii::Triangulation<3> mesh;
-      dealii::GridGenerator::subdivided_hyper_rectangle(mesh, {6, 4, 3}, dealii::Point<3>(),
+      // (the run's mesh: parallel::shared, partitioned by deal.II)
+      const auto mesh = processes::new_triangulation<3>();
+      dealii::GridGenerator::subdivided_hyper_rectangle(*mesh, {6, 4, 3}, dealii::Point<3>(),
                                                         dealii::Point<3>(3., 2., 1.));
-      dealii::DoFHandler<3>   fine(mesh), coarse(mesh);
+      dealii::DoFHandler<3>   fine(*mesh), coarse(*mesh);
       const dealii::FESystem<3> q2(dealii::FE_Q<3>(2), 3), q1(dealii::FE_Q<3>(1), 3);
       processes::distribute_dofs(fine, q2);
       coarse.distribute_dofs(q1);

@@ -1,9 +1,8 @@
 // The MPI processes of a run: who this one is, which cells it assembles, and the sums that keep the replicated state the same bits on every process.
 #include <dieflow/base/processes.h>
 
-#include <deal.II/dofs/dof_renumbering.h>
+#include <deal.II/distributed/shared_tria.h>
 #include <deal.II/dofs/dof_tools.h>
-#include <deal.II/grid/grid_tools.h>
 
 #include <petscsys.h>
 
@@ -12,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -527,31 +527,36 @@ namespace dieflow
 
 
     template <int dim>
-    void
-    partition(dealii::Triangulation<dim> &triangulation)
+    std::unique_ptr<dealii::Triangulation<dim>>
+    new_triangulation()
     {
       if (n_processes == 1)
-        return;
-      std::vector<unsigned int> parts(triangulation.n_active_cells());
-      if (this_rank == 0)
-        {
-          dealii::GridTools::partition_triangulation(n_processes, triangulation);
-          for (const auto &cell : triangulation.active_cell_iterators())
-            parts[cell->active_cell_index()] = cell->subdomain_id();
-        }
-      MPI_Bcast(parts.data(), static_cast<int>(parts.size()), MPI_UNSIGNED, 0, MPI_COMM_WORLD);
-      for (const auto &cell : triangulation.active_cell_iterators())
-        cell->set_subdomain_id(parts[cell->active_cell_index()]);
+        return std::make_unique<dealii::Triangulation<dim>>();
+      // The plain mesh's smoothing (none); every cell a process's own or a
+      // ghost, none artificial, so that every process holds the whole mesh
+      // and each cell's subdomain id is its owner.
+      return std::make_unique<dealii::parallel::shared::Triangulation<dim>>(
+        communicator(), dealii::Triangulation<dim>::none, false,
+        dealii::parallel::shared::Triangulation<dim>::partition_metis);
     }
 
     template <int dim>
     void
     distribute_dofs(dealii::DoFHandler<dim> &dof_handler, const dealii::FiniteElement<dim> &fe)
     {
-      partition(const_cast<dealii::Triangulation<dim> &>(dof_handler.get_triangulation()));
       dof_handler.distribute_dofs(fe);
       // A new mesh: the partitions of the last one's spaces are gone.
       parts_by_size.clear();
+      if (n_processes == 1)
+        return;
+      // deal.II runs METIS on every process (not on one, broadcast): the
+      // parts must agree, else the processes would assemble overlapping or
+      // missing cells and wait for each other in different collectives.
+      const auto &          triangulation = dof_handler.get_triangulation();
+      dealii::Vector<double> parts(triangulation.n_active_cells());
+      for (const auto &cell : triangulation.active_cell_iterators())
+        parts[cell->active_cell_index()] = cell->subdomain_id();
+      require_same(parts, "the mesh's parts (METIS)");
       number_dofs_by_part(dof_handler);
     }
 
@@ -561,19 +566,28 @@ namespace dieflow
     {
       if (n_processes == 1)
         return;
-      dealii::DoFRenumbering::subdomain_wise(dof_handler);
+      // The shared mesh's DoFHandler numbered the dofs part by part already
+      // (an interface dof with the part of smaller id, the order within a
+      // part the serial one's: DoFRenumbering::subdomain_wise's numbering).
       std::vector<dealii::types::subdomain_id> part(dof_handler.n_dofs());
       dealii::DoFTools::get_subdomain_association(dof_handler, part);
       std::vector<dealii::types::global_dof_index> rows_of_part(n_processes, 0);
       for (const auto p : part)
         ++rows_of_part[p];
       own_rows_by_part(rows_of_part);
+      // The rows this process owns are deal.II's own dofs of the handler (what
+      // extract_constant_modes and the like read on a shared mesh).
+      const dealii::IndexSet &own   = dof_handler.locally_owned_dofs();
+      const auto              first = first_owned_row(dof_handler.n_dofs(), 1, this_rank);
+      if (own.n_elements() != rows_of_part[this_rank] || !own.is_contiguous() ||
+          (own.n_elements() > 0 && own.nth_index_in_set(0) != first))
+        throw std::logic_error("processes::number_dofs_by_part: the dofs are not numbered by parts");
     }
 
-    template void
-    partition(dealii::Triangulation<2> &);
-    template void
-    partition(dealii::Triangulation<3> &);
+    template std::unique_ptr<dealii::Triangulation<2>>
+    new_triangulation();
+    template std::unique_ptr<dealii::Triangulation<3>>
+    new_triangulation();
     template void
     distribute_dofs(dealii::DoFHandler<2> &, const dealii::FiniteElement<2> &);
     template void

@@ -1,10 +1,10 @@
 // The incompressibility forms behind one interface: plain penalty, augmented Lagrangian and the mixed form.
 #include <dieflow/flow/incompressibility.h>
 #include <dieflow/flow/pressure_projection.h>
+#include <dieflow/mesh/whole_mesh.h>
 #include <dieflow/solvers/rigid_body_modes.h>
 
 #include <deal.II/base/quadrature_lib.h>
-#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
 
 #include <algorithm>
@@ -144,9 +144,7 @@ namespace dieflow
       {
         if (krylov)
           {
-            std::vector<std::vector<bool>> constant_modes;
-            dealii::DoFTools::extract_constant_modes(dof_handler, dealii::ComponentMask(), constant_modes);
-            linear_solver.set_constant_modes(constant_modes);
+            linear_solver.set_constant_modes(whole_mesh::constant_modes(dof_handler));
           }
         // The previous mesh's cell stress is the best first multiplier.
         // Only the cell means go from mesh to mesh (the first coefficient).

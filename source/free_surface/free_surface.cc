@@ -3,6 +3,7 @@
 
 #include <dieflow/mesh/mesh_motion.h>
 #include <dieflow/mesh/boundary_loops.h>
+#include <dieflow/mesh/whole_mesh.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -523,7 +524,7 @@ namespace dieflow
       {
         for (const auto &[vertex, p] : placed)
           boundary[vertex] = x[vertex] + step * (p - x[vertex]);
-        dealii::GridTools::laplace_transform(boundary, mesh);
+        whole_mesh::laplace_transform(boundary, mesh);
         place_hanging_vertices(mesh);
         result.step = step;
         if (smallest_scaled_jacobian(mesh) >= std::min(0.25, 0.5 * before))

@@ -1,10 +1,10 @@
 // The record of a temperature solution: the heat balance, the extremes, the temperature where the metal leaves, T at the vertices.
 #include <dieflow/heat/heat_equation.h>
 #include <dieflow/mesh/scalar_field.h>
+#include <dieflow/mesh/whole_mesh.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
 #include <cmath>
@@ -153,7 +153,7 @@ namespace dieflow
   {
     try
       {
-        return dealii::VectorTools::point_value(dof_handler, temperature, point);
+        return whole_mesh::point_value(dof_handler, temperature, point);
       }
     catch (...)
       {

@@ -3,6 +3,7 @@
 #include <dieflow/heat/heat_equation.h>
 #include <dieflow/incremental/mesh_transfer.h>
 #include <dieflow/mesh/scalar_field.h>
+#include <dieflow/mesh/whole_mesh.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -79,7 +80,7 @@ namespace dieflow
       dealii::VectorTools::interpolate_boundary_values(dof_handler, id, *prescribed, constraints);
     constraints.close();
     dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
-    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
+    whole_mesh::make_sparsity_pattern(dof_handler, dsp, constraints);
     sparsity.copy_from(dsp);
     matrix.reinit(sparsity);
     rhs.reinit(dof_handler.n_dofs());

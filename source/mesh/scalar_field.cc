@@ -1,9 +1,9 @@
 // What the continuous scalar fields on the flow's mesh share: values at the flow's points and vertices, range, errors against an exact field.
 #include <dieflow/mesh/scalar_field.h>
+#include <dieflow/mesh/whole_mesh.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
 #include <cmath>
@@ -77,7 +77,7 @@ namespace dieflow
                      coordinates.weight(fe_values.quadrature_point(q));
       }
     dealii::Vector<double> nodal(dof_handler.n_dofs());
-    dealii::VectorTools::interpolate(dof_handler, exact, nodal);
+    whole_mesh::interpolate(dof_handler, exact, nodal);
     nodal -= field;
     return {std::sqrt(squared), nodal.linfty_norm()};
   }

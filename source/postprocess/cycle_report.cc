@@ -4,6 +4,7 @@
 #include <dieflow/base/serialization.h>
 #include <dieflow/flow/pressure_projection.h>
 #include <dieflow/mesh/refinement.h>
+#include <dieflow/mesh/whole_mesh.h>
 #include <dieflow/postprocess/contact_output.h>
 #include <dieflow/postprocess/cycle_report.h>
 #include <dieflow/postprocess/free_surface_output.h>
@@ -13,7 +14,6 @@
 #include <dieflow/postprocess/vertex_stress.h>
 
 #include <deal.II/grid/grid_out.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <cmath>
 #include <fstream>
@@ -228,7 +228,7 @@ namespace dieflow
         dealii::Vector<double> value(dim);
         try
           {
-            dealii::VectorTools::point_value(dof_handler, velocity, *settings.probe, value);
+            whole_mesh::point_value(dof_handler, velocity, *settings.probe, value);
           }
         catch (const std::exception &)
           {

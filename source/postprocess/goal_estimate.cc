@@ -2,6 +2,7 @@
 #include <dieflow/flow/pressure_projection.h>
 #include <dieflow/mesh/refinement.h>
 #include <dieflow/mesh/wall_nodes.h>
+#include <dieflow/mesh/whole_mesh.h>
 #include <dieflow/postprocess/goal_estimate.h>
 #include <dieflow/system/system_assembler.h>
 
@@ -9,7 +10,6 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
-#include <deal.II/fe/fe_tools.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_direct.h>
@@ -200,18 +200,18 @@ namespace dieflow
     constraints.close();
 
     Vector<double> v(dual_dofs.n_dofs());
-    dealii::FETools::interpolate(dof_handler, velocity, dual_dofs, dual_hanging, v);
+    whole_mesh::interpolate(dof_handler, velocity, dual_dofs, dual_hanging, v);
 
     dealii::DynamicSparsityPattern dsp(dual_dofs.n_dofs());
-    dealii::DoFTools::make_sparsity_pattern(dual_dofs, dsp, dual_hanging, false);
+    whole_mesh::make_sparsity_pattern(dual_dofs, dsp, dual_hanging);
     dealii::SparsityPattern pattern;
     pattern.copy_from(dsp);
 
     // psi is the solution space's lifting (its hanging nodes distributed),
     // so that z - I_h z vanishes wherever the solution's values are held.
     Vector<double> psi(dual_dofs.n_dofs());
-    dealii::FETools::interpolate(dof_handler, force_direction(dof_handler, hanging_node_constraints, part_id), dual_dofs,
-                                 dual_hanging, psi);
+    whole_mesh::interpolate(dof_handler, force_direction(dof_handler, hanging_node_constraints, part_id), dual_dofs,
+                            dual_hanging, psi);
     // The flow's T and hardening at the dual assembly's points, QGauss(dual degree + 1).
     FlowTerms<dim>      dual_terms = terms;
     std::vector<double> dual_temperature, dual_hardening;
@@ -236,8 +236,8 @@ namespace dieflow
     // hanging nodes constrained), else w jumps across the hanging edges and
     // the cell integrals below miss the jumps.
     Vector<double> interpolant(dof_handler.n_dofs()), w(dual_dofs.n_dofs());
-    dealii::FETools::interpolate(dual_dofs, z, dof_handler, hanging_node_constraints, interpolant);
-    dealii::FETools::interpolate(dof_handler, interpolant, dual_dofs, dual_hanging, w);
+    whole_mesh::interpolate(dual_dofs, z, dof_handler, hanging_node_constraints, interpolant);
+    whole_mesh::interpolate(dof_handler, interpolant, dual_dofs, dual_hanging, w);
     w.sadd(-1., 1., z);
 
     GoalEstimate result;

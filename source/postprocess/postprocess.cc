@@ -14,6 +14,7 @@
 #include <deal.II/numerics/data_postprocessor.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 
@@ -530,17 +531,21 @@ namespace dieflow
                   const Vector<double> &        velocity,
                   const dealii::Function<dim> & exact)
   {
-    const auto &      triangulation = dof_handler.get_triangulation();
-    Vector<float>     per_cell(triangulation.n_active_cells());
+    Vector<float>             per_cell(dof_handler.get_triangulation().n_active_cells());
     const dealii::QGauss<dim> quadrature(dof_handler.get_fe().degree + 2);
-    dealii::VectorTools::integrate_difference(
-      dof_handler, velocity, exact, per_cell, quadrature, dealii::VectorTools::L2_norm);
-    const double l2 = dealii::VectorTools::compute_global_error(triangulation, per_cell, dealii::VectorTools::L2_norm);
-    dealii::VectorTools::integrate_difference(
-      dof_handler, velocity, exact, per_cell, quadrature, dealii::VectorTools::H1_seminorm);
-    const double h1 =
-      dealii::VectorTools::compute_global_error(triangulation, per_cell, dealii::VectorTools::H1_seminorm);
-    return {l2, h1};
+    // On a shared mesh (P > 1) integrate_difference gives this process's
+    // cells alone (the others 0) and compute_global_error all-reduces: each
+    // cell's error is summed from its owner instead (exact: the others add
+    // zeros), the norm compute_global_error's on a plain mesh.
+    const auto global = [&](const dealii::VectorTools::NormType norm) {
+      dealii::VectorTools::integrate_difference(dof_handler, velocity, exact, per_cell, quadrature, norm);
+      Vector<double> whole(per_cell);
+      processes::sum(whole);
+      per_cell           = whole;
+      const double local = per_cell.l2_norm();
+      return std::sqrt(local * local);
+    };
+    return {global(dealii::VectorTools::L2_norm), global(dealii::VectorTools::H1_seminorm)};
   }
 
 

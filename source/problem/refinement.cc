@@ -1,6 +1,7 @@
 // The die-flow problem's refinement cycles: the next mesh from the indicators, and when a target error stops them.
 #include <dieflow/flow/pressure_projection.h>
 #include <dieflow/mesh/refinement.h>
+#include <dieflow/mesh/whole_mesh.h>
 #include <dieflow/postprocess/contact_output.h>
 #include <dieflow/postprocess/goal_estimate.h>
 #include <dieflow/problem/problem.h>
@@ -112,7 +113,7 @@ namespace dieflow
     if (processes::n() > 1)
       {
         dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
-        dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, false);
+        whole_mesh::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints);
         all_rows.copy_from(dsp);
       }
     return force_dual(dof_handler,

@@ -68,6 +68,8 @@ namespace dieflow
     , timer(log, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
     , assembler(parameters.material, nullptr)
     , linear_solver(parameters.linear_solver)
+    , mesh(processes::new_triangulation<dim>())
+    , triangulation(*mesh)
     , fe(dealii::FE_Q<dim>(parameters.velocity_degree), dim)
     , dof_handler(triangulation)
     , incompressibility(parameters.material, parameters.coordinates, dof_handler, linear_solver, log)
@@ -91,20 +93,26 @@ namespace dieflow
     if (!bc.traction_ids.empty())
       assembler.set_traction(bc.traction.get(), bc.traction_ids);
 
-    make_mesh(parameters.mesh, triangulation);
-    parameters.check_mesh(triangulation);
+    // On P > 1 the mesh is made and checked as a plain one, then copied
+    // (with its manifolds) into the shared one, which partitions it: the
+    // mesh makers need not know the shared mesh, and a mesh of fewer cells
+    // than processes is refused before METIS would be asked to divide it.
+    dealii::Triangulation<dim>  plain;
+    dealii::Triangulation<dim> &made = processes::n() > 1 ? plain : triangulation;
+    make_mesh(parameters.mesh, made);
+    parameters.check_mesh(made);
     if (parameters.mesh.corner_refinements > 0)
       {
         std::set<BoundaryId> walls = parameters.contact.die_ids;
         walls.insert(bc.slip_wall_ids.begin(), bc.slip_wall_ids.end());
-        grade_towards(wall_corners(triangulation, walls),
-                      parameters.mesh.corner_refinements,
-                      parameters.mesh.corner_width,
-                      triangulation);
+        grade_towards(wall_corners(made, walls), parameters.mesh.corner_refinements, parameters.mesh.corner_width, made);
       }
-    parameters.check_graded_mesh(triangulation, log);
+    parameters.check_graded_mesh(made, log);
     if (processes::n() > 1)
-      check_processes(parameters, triangulation);
+      {
+        check_processes(parameters, made);
+        triangulation.copy_triangulation(made);
+      }
   }
 
 

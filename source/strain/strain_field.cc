@@ -1,6 +1,7 @@
 // The metal's equivalent strain in a steady run: the deck's entries, the SUPG assembly with the weak inflow condition, the solve, the flow's hardening factors and the record.
 #include <dieflow/base/expressions.h>
 #include <dieflow/mesh/scalar_field.h>
+#include <dieflow/mesh/whole_mesh.h>
 #include <dieflow/strain/strain_field.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -118,7 +119,7 @@ namespace dieflow
     dealii::DoFTools::make_hanging_node_constraints(dof_handler, constraints);
     constraints.close();
     dealii::DynamicSparsityPattern dsp(dof_handler.n_dofs());
-    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
+    whole_mesh::make_sparsity_pattern(dof_handler, dsp, constraints);
     sparsity.copy_from(dsp);
     matrix.reinit(sparsity);
     rhs.reinit(dof_handler.n_dofs());

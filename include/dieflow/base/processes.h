@@ -16,6 +16,7 @@
 
 #include <cstdint>
 
+#include <memory>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -25,12 +26,14 @@ namespace dieflow
 {
   /**
    * A run on P processes (doc/parallel.md). Every process holds the whole
-   * mesh and the whole state (the velocity, the contact set, the free
-   * surface, the report's fields), and runs the same algorithm on it; what
-   * is divided is the expensive part of a Newton iteration:
+   * mesh (a parallel::shared::Triangulation, new_triangulation()) and the
+   * whole state (the velocity, the contact set, the free surface, the
+   * report's fields), and runs the same algorithm on it; what is divided
+   * is the expensive part of a Newton iteration:
    *  - the flow's cell terms (FlowAssembler): each process assembles the
-   *    cells of its METIS part (partition()), whose dofs are numbered as one
-   *    block, the rows it owns (own_rows_by_part()), and the partial systems
+   *    cells of its METIS part (its cells on the shared mesh), whose dofs
+   *    are numbered as one block, the rows it owns (own_rows_by_part()),
+   *    and the partial systems
    *    are summed: the right-hand side whole on every process (sum()), the
    *    matrix only in each process's own rows (RowSums), the only ones its
    *    readers (the products, the direct and iterative solvers' copies, the
@@ -49,6 +52,10 @@ namespace dieflow
    * which MPI gives every process to the same bit; its solution is then
    * gathered, so the state stays the same bits.
    * Only the first process writes files and the log.
+   *
+   * deal.II's helpers that see only a process's own cells on a shared mesh
+   * (cell->is_locally_owned()) would make the replicated state differ:
+   * what needs the whole mesh goes through whole_mesh.h instead.
    *
    * With one process (the default, no launcher) none of this runs, and MPI
    * is not initialised (the iterative solver's Trilinos initialises it on
@@ -192,7 +199,7 @@ namespace dieflow
      * Collective. From now on, the rows of an n x n system with n the sum
      * of @p rows_of_part are owned in the order of the ranks, process r the
      * next rows_of_part[r] (the flow's dofs numbered by the cells' parts,
-     * DoFRenumbering::subdomain_wise: the rows of a process's cells then
+     * as the shared mesh's DoFHandler numbers them: the rows of a process's cells then
      * are its own, but at its part's border); other sizes as before, and
      * as any other size given (one partition per size: the flow's dofs,
      * p-multigrid's Q1 dofs; distribute_dofs() forgets the last mesh's).
@@ -216,34 +223,39 @@ namespace dieflow
     gather(dealii::Vector<double> &v, const unsigned int block = 1);
 
     /**
-     * Divides the active cells among the processes with METIS (on the
-     * first process, broadcast, so the parts agree), as their subdomain
-     * ids. With one process, every cell is in part 0.
+     * The run's mesh, empty: on P > 1 a parallel::shared::Triangulation
+     * (every process holds all of it, no cell artificial; deal.II divides
+     * the active cells among the processes with METIS, as their subdomain
+     * ids, whenever the mesh is made or refined), on one process a plain
+     * Triangulation (MPI is not initialised then). Both without smoothing.
      */
     template <int dim>
-    void
-    partition(dealii::Triangulation<dim> &triangulation);
+    std::unique_ptr<dealii::Triangulation<dim>>
+    new_triangulation();
 
     /**
-     * Collective. partition() and @p dof_handler's dofs of @p fe, on P > 1
-     * numbered part by part (DoFRenumbering::subdomain_wise; an interface
-     * dof goes with the part of smaller id), each part's block of rows its
-     * process's own (own_rows_by_part()): its cells then add to its own
-     * rows but at its part's border, and it stores its rows of a matrix
-     * alone (RowSums). The same mesh gets the same numbering again (METIS
-     * is deterministic), so a vector carried over a call (a refinement's
-     * transfer, a free surface's move) keeps its meaning.
+     * Collective. @p dof_handler's dofs of @p fe; on P > 1 (the mesh of
+     * new_triangulation()) checks that every process has the same parts,
+     * and owns each part's block of rows by its process
+     * (own_rows_by_part()): deal.II's DoFHandler on the shared mesh
+     * numbers the dofs part by part (as DoFRenumbering::subdomain_wise
+     * does: an interface dof goes with the part of smaller id), so its
+     * cells add to its own rows but at its part's border, and it stores
+     * its rows of a matrix alone (RowSums). The same mesh gets the same
+     * numbering again (METIS is deterministic), so a vector carried over a
+     * call (a refinement's transfer, a free surface's move) keeps its
+     * meaning.
      */
     template <int dim>
     void
     distribute_dofs(dealii::DoFHandler<dim> &dof_handler, const dealii::FiniteElement<dim> &fe);
 
     /**
-     * Collective. On P > 1, numbers the dofs of @p dof_handler (on the
-     * mesh distribute_dofs() partitioned) part by part and owns each
-     * part's block by its process, as distribute_dofs() does: for a second
-     * space on the same mesh (p-multigrid's Q1 level, whose rows and
-     * transfers then stay within the parts but at their border).
+     * Collective. On P > 1, owns each part's block of @p dof_handler's dofs
+     * (distributed on the shared mesh, so numbered part by part) by its
+     * process, as distribute_dofs() does: for a second space on the same
+     * mesh (p-multigrid's Q1 level, whose rows and transfers then stay
+     * within the parts but at their border).
      */
     template <int dim>
     void

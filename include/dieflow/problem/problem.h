@@ -38,8 +38,7 @@ namespace dieflow
    * The die-flow problem (deal.II step-42's shape, ASPECT's rooms). A run:
    *
    *   for each cycle (a refinement cycle, or a time step)    (cycles.cc):
-   *     the mesh: refined (refinement.cc), or moved with the metal and
-   *       meshed anew where cells degrade (time_steps.cc);
+   *     the mesh: refined (refinement.cc), or moved with the metal and meshed anew where cells degrade (time_steps.cc);
    *     dofs, constraints, the incompressibility form's state  (setup.cc);
    *     Newton's method (NonlinearSolver) on this system: per iteration
    *       update_state -> assemble_system -> solve -> line search ->
@@ -215,7 +214,8 @@ namespace dieflow
     LinearSolver                           linear_solver;
 
     // The discretisation of the current mesh.
-    dealii::Triangulation<dim>   triangulation;
+    std::unique_ptr<dealii::Triangulation<dim>> mesh; ///< parallel::shared on P > 1, else plain (processes::new_triangulation())
+    dealii::Triangulation<dim> &                triangulation;
     const dealii::FESystem<dim>  fe;
     dealii::DoFHandler<dim>      dof_handler;
     AffineConstraints<double>    hanging_node_constraints, constraints, update_constraints, prescribed_constraints;

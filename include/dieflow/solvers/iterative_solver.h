@@ -56,7 +56,7 @@ namespace dieflow
   class IterativeSolver
   {
   public:
-    /// The velocity components' constant modes (DoFTools::extract_constant_modes).
+    /// The velocity components' constant modes (whole_mesh::constant_modes()).
     void
     set_constant_modes(const std::vector<std::vector<bool>> &modes);
 
