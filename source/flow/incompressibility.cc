@@ -401,7 +401,7 @@ namespace dieflow
     const bool penalty_form_symmetric = reassemble(assembled_iterate, assembled_linearization, penalty_form);
     multiplier_update = accepted_multiplier;
     multiplier_update *= -1.;
-    linear_solver.factorize(matrix, penalty_form_symmetric);
+    linear_solver.factorize(matrix, penalty_form_symmetric, LinearSolver::FactorisationFor::fallback);
     linear_solver.solve(rhs, update);
   }
 

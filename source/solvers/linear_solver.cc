@@ -139,7 +139,9 @@ namespace dieflow
 
 
   void
-  LinearSolver::factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric)
+  LinearSolver::factorize(const dealii::SparseMatrix<double> &matrix,
+                          const bool                          symmetric,
+                          const FactorisationFor              purpose)
   {
     // Counted as the solver's set-up, however the factorisation ends.
     struct SetupTime
@@ -157,7 +159,6 @@ namespace dieflow
         // which the serial path's estimate and cap do not describe).
         if (!distributed)
           distributed = std::make_unique<DistributedDirectSolver>();
-        const bool fallback = std::exchange(next_is_fallback, false);
         // Weighed once per analysis, before MUMPS allocates: later
         // factorisations of the pattern take the memory the first freed.
         if (distributed->analyse(matrix))
@@ -168,7 +169,7 @@ namespace dieflow
                 const std::string need = distributed->memory_need();
                 distributed->reset();
                 throw ResourceFailure(
-                  fallback ?
+                  purpose == FactorisationFor::fallback ?
                     "the iterative linear solver did not converge, and its direct fallback: " + need +
                       ": loosen Linear solver/Iterative tolerance, run on more machines, or solve a coarser mesh first "
                       "and refine (Refinement/Cycles)" :
@@ -349,7 +350,7 @@ namespace dieflow
       return;
     require_direct_fallback_fits(dim, matrix, symmetric);
     ++counts.direct_fallbacks;
-    factorize(matrix, symmetric);
+    factorize(matrix, symmetric, FactorisationFor::fallback);
     solve(rhs, solution);
   }
 
@@ -534,8 +535,7 @@ namespace dieflow
   {
     if (processes::n() > 1)
       {
-        // MUMPS's analysis weighs the fallback in factorize(): its refusal then names this one's remedies.
-        next_is_fallback = true;
+        // MUMPS's analysis weighs the fallback in factorize(), told it is one.
         return;
       }
     const double needed    = direct_fallback_bytes(dim, matrix, symmetric);

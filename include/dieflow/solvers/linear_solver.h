@@ -219,6 +219,15 @@ namespace dieflow
     void
     reset(const dealii::SparseMatrix<double> &matrix);
 
+    /// What a factorisation is for: its refusal names that solve's remedies.
+    enum class FactorisationFor
+    {
+      /// The direct method's Newton system (Linear solver/Method).
+      direct_solve,
+      /// The direct fallback of an iterative solve that did not converge.
+      fallback
+    };
+
     /// Factorises @p matrix (@p symmetric: J = J^T); throws SolverFailure if
     /// it cannot, and ResourceFailure (naming Linear solver/Method and the
     /// sizes) where its analysis's estimate of the factorisation's memory
@@ -228,9 +237,12 @@ namespace dieflow
     /// the process. On more than one process, MUMPS's analysis of each new
     /// pattern weighs its factorisation before it allocates it: refused, on
     /// every process alike, where a machine's processes together, or one
-    /// process alone, would need more than is free.
+    /// process alone, would need more than is free (the message names the
+    /// remedies of the solve @p purpose says).
     void
-    factorize(const dealii::SparseMatrix<double> &matrix, const bool symmetric);
+    factorize(const dealii::SparseMatrix<double> &matrix,
+              const bool                          symmetric,
+              const FactorisationFor              purpose = FactorisationFor::direct_solve);
 
     /// Solves with the last factorisation (@p transpose: with J^T, for adjoints).
     void
@@ -358,10 +370,6 @@ namespace dieflow
     std::unique_ptr<IterativeSolver> iterative_solver;
     /// Made on first use on more than one process (processes.h).
     std::unique_ptr<DistributedDirectSolver> distributed;
-    /// Set by require_direct_fallback_fits() on more than one process: the
-    /// next factorisation is the fallback's, whose refusal (MUMPS's analysis
-    /// is made in factorize()) names the iterative solve's remedies.
-    bool next_is_fallback = false;
   };
 } // namespace dieflow
 
