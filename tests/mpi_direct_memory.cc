@@ -17,7 +17,7 @@
 //    tolerance).
 // Checked that it fails: without the weighing (memory_ratio() taken as 0)
 // the refused run hangs in its first factorisation (ended by ctest's
-// timeout, 600 s, before the launched processes had their alarm, 240 s).
+// timeout, 600 s, before the launched processes had their alarm, now 300 s).
 #include "mpi_runs.h"
 
 using namespace mpi_runs;

@@ -15,6 +15,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -58,14 +59,22 @@ namespace mpi_runs
 
   /// Runs @p deck (a text) on @p processes MPI processes in the folder @p name;
   /// @p room_gb > 0: each process's address space limited to what it maps
-  /// once MPI has started plus that many GB (launched_process()).
+  /// once MPI has started plus that many GB (launched_process());
+  /// @p prepare, if given, is called with the run's Output directory
+  /// (made, empty) before the run.
   inline Run
-  launch(const std::string &name, const std::string &deck, const unsigned int processes, const double room_gb = 0)
+  launch(const std::string &                             name,
+         const std::string &                             deck,
+         const unsigned int                              processes,
+         const double                                    room_gb = 0,
+         const std::function<void(const std::string &)> &prepare = {})
   {
     Run run;
     run.directory = name + "-" + std::to_string(processes);
     std::filesystem::remove_all(run.directory);
-    std::filesystem::create_directories(run.directory);
+    std::filesystem::create_directories(run.directory + "/results");
+    if (prepare)
+      prepare(run.directory + "/results");
     const std::string output = "set Output directory = " + run.directory + "/results";
     const std::regex  entry("set Output directory[^\\n]*");
     std::ofstream(run.directory + "/deck.prm")
@@ -176,6 +185,11 @@ namespace mpi_runs
     if (argc == 3 && std::string(argv[1]) == "--deck")
       {
         char *arguments[] = {argv[0], argv[2], nullptr};
+        // A process that hangs (waiting for another in a collective, or,
+        // below, unable to map what it asks for) is ended by the alarm's
+        // signal, and mpirun ends the run: a test fails instead of waiting
+        // for ctest's timeout.
+        alarm(300);
         const char *room  = std::getenv("DIEFLOW_TEST_ROOM_GB");
         if (room == nullptr)
           return dieflow::run_command_line(2, arguments);
@@ -183,9 +197,6 @@ namespace mpi_runs
         // fails to start under a limit (the run leaves it to this program).
         int provided = 0;
         MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-        // A process that cannot map what it asks for may hang (OpenBLAS
-        // retries for ever): the alarm's signal ends it, and mpirun the run.
-        alarm(240);
         struct rlimit limit;
         getrlimit(RLIMIT_AS, &limit);
         limit.rlim_cur = static_cast<rlim_t>(dieflow::mapped_memory() + 1e9 * std::atof(room));

@@ -1,5 +1,6 @@
 // An output file that a reader sees whole or not at all: written under PATH.partial and renamed to PATH when complete.
 #include <dieflow/base/atomic_file.h>
+#include <dieflow/base/parameters.h>
 #include <dieflow/base/processes.h>
 
 #include <cstdio>
@@ -8,6 +9,16 @@
 
 namespace dieflow
 {
+  std::ofstream
+  output_stream(const std::string &path)
+  {
+    std::ofstream out(path);
+    require(static_cast<bool>(out), "Output directory", "cannot write '" + path + "' (a folder of that name, or no room)");
+    return out;
+  }
+
+
+
   AtomicFile::AtomicFile(const std::string &path)
     : path(path)
     , partial(path + ".partial")

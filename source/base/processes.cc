@@ -7,6 +7,7 @@
 #include <petscsys.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -14,6 +15,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace dieflow
@@ -24,6 +26,8 @@ namespace dieflow
     {
       unsigned int n_processes = 1;
       unsigned int this_rank   = 0;
+      /// failed_together()'s communicator: a copy of MPI_COMM_WORLD that no collective of the run uses.
+      MPI_Comm failure_communicator = MPI_COMM_NULL;
 
       /**
        * Sums @p data over the processes, the same bits everywhere: each
@@ -133,6 +137,7 @@ namespace dieflow
           owns_petsc = true;
         }
       PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+      MPI_Comm_dup(MPI_COMM_WORLD, &failure_communicator);
       started = true;
     }
 
@@ -151,12 +156,31 @@ namespace dieflow
       if (!started)
         return;
       PetscPopErrorHandler();
+      MPI_Comm_free(&failure_communicator);
       if (owns_petsc)
         PetscFinalize();
       if (owns_mpi)
         MPI_Finalize();
       n_processes = 1;
       this_rank   = 0;
+    }
+
+
+
+    bool
+    failed_together(const double seconds)
+    {
+      if (failure_communicator == MPI_COMM_NULL)
+        return true;
+      MPI_Request request = MPI_REQUEST_NULL;
+      MPI_Ibarrier(failure_communicator, &request);
+      const double start = MPI_Wtime();
+      int          done  = 0;
+      while (MPI_Test(&request, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && done == 0 &&
+             MPI_Wtime() - start < seconds)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      // Left pending where not done: the process is about to abort.
+      return done != 0;
     }
 
 

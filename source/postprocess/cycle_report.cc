@@ -1,4 +1,5 @@
 // The report of a converged cycle: forces, fluxes, checks, errors, quantities of interest and the output files, from a read-only view of the solution.
+#include <dieflow/base/atomic_file.h>
 #include <dieflow/base/processes.h>
 #include <dieflow/base/parameters.h>
 #include <dieflow/base/serialization.h>
@@ -284,8 +285,8 @@ namespace dieflow
       }
     if (settings.write_mesh_svg && processes::writes_output())
       {
-        std::ofstream svg(settings.output_directory + "/mesh-" + dealii::Utilities::int_to_string(summary.cycle, 2) +
-                          ".svg");
+        std::ofstream svg =
+          output_stream(settings.output_directory + "/mesh-" + dealii::Utilities::int_to_string(summary.cycle, 2) + ".svg");
         dealii::GridOut().write_svg(triangulation, svg);
       }
   }

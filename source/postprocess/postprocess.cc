@@ -716,7 +716,7 @@ namespace dieflow
             const auto piece = [&](const unsigned int rank) {
               return stem + "." + dealii::Utilities::int_to_string(rank, 4) + ".vtu";
             };
-            std::ofstream out(directory + "/" + piece(processes::rank()));
+            std::ofstream out = output_stream(directory + "/" + piece(processes::rank()));
             data_out.write_vtu(out);
             record = stem + ".pvtu";
             if (processes::writes_output())
@@ -724,13 +724,13 @@ namespace dieflow
                 std::vector<std::string> names;
                 for (unsigned int rank = 0; rank < processes::n(); ++rank)
                   names.push_back(piece(rank));
-                std::ofstream list(directory + "/" + record);
+                std::ofstream list = output_stream(directory + "/" + record);
                 data_out.write_pvtu_record(list, names);
               }
           }
         else if (processes::writes_output())
           {
-            std::ofstream out(directory + "/" + record);
+            std::ofstream out = output_stream(directory + "/" + record);
             data_out.write_vtu(out);
           }
         pvd_records.emplace_back(record_time, record);
@@ -742,7 +742,7 @@ namespace dieflow
             data_out.set_cell_selection([](const cell_iterator &cell) { return cell->is_active(); });
             data_out.build_patches(subdivisions);
           }
-        std::ofstream out(directory + "/" + stem + ".gnuplot");
+        std::ofstream out = output_stream(directory + "/" + stem + ".gnuplot");
         data_out.write_gnuplot(out);
       }
   }

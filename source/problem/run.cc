@@ -285,6 +285,29 @@ namespace dieflow
 
 
 
+  namespace
+  {
+    /// The exit of a run that failed with @p message: one line, from the
+    /// first process where every process failed, else from this one,
+    /// which then ends the others (processes::failed_together()).
+    int
+    end_with(const std::string &kind, const std::string &message, const int code, const bool first)
+    {
+      if (processes::failed_together())
+        {
+          if (first)
+            std::cerr << "dieflow: " << kind << ": " << message << std::endl;
+          return code;
+        }
+      std::cerr << "dieflow: " << kind << ": " << message << " (MPI process " << processes::rank()
+                << " alone; it ends the others)" << std::endl;
+      MPI_Abort(processes::communicator(), code);
+      return code;
+    }
+  } // namespace
+
+
+
   int
   run_command_line(int argc, char **argv)
   {
@@ -356,35 +379,24 @@ namespace dieflow
                     << std::defaultfloat << std::endl;
         return summary.converged ? exit_converged : exit_not_converged;
       }
-    // The deck's errors are every process's (they read the same deck): the
-    // first says so.
+    // An error every process raised (the deck's, read by all; one of the
+    // replicated state) is said once, by the first. An error of one process
+    // alone (a file it could not write, say: DataOut's, a .vtu piece), the
+    // others waiting for it in a collective, would leave them waiting for
+    // ever: that process says it and ends them all.
     catch (const InputError &error)
       {
-        if (first)
-          std::cerr << "dieflow: error: " << error.what() << std::endl;
-        return exit_bad_input;
+        return end_with("error", error.what(), exit_bad_input, first);
       }
     catch (const dealii::ExceptionBase &exc)
       {
         // ParameterHandler reports unknown entries, bad values and syntax
-        // errors of the deck through deal.II exceptions; so does DataOut a
-        // file the first process could not write, the others waiting for
-        // it: the first ends them all.
-        if (first)
-          std::cerr << "dieflow: error: " << deck_error_message(exc, argument) << std::endl;
-        if (first && processes::n() > 1)
-          MPI_Abort(processes::communicator(), exit_bad_input);
-        return exit_bad_input;
+        // errors of the deck through deal.II exceptions.
+        return end_with("error", deck_error_message(exc, argument), exit_bad_input, first);
       }
     catch (const std::exception &exc)
       {
-        // Perhaps this process's alone, the others waiting for it: it ends them.
-        std::cerr << "dieflow: internal error: " << one_line_message(exc)
-                  << (processes::n() > 1 ? " (MPI process " + std::to_string(processes::rank()) + ")" : std::string())
-                  << std::endl;
-        if (processes::n() > 1)
-          MPI_Abort(processes::communicator(), exit_internal);
-        return exit_internal;
+        return end_with("internal error", one_line_message(exc), exit_internal, first);
       }
   }
 } // namespace dieflow

@@ -14,6 +14,17 @@ namespace dieflow
    * complete file, never a truncated one. Without commit() (an exception on
    * the way) the partial file is removed.
    */
+  /**
+   * A stream to @p path for a file written whole at once whose reader is
+   * told of it later (a .vtu piece, listed by the .pvtu and .pvd written
+   * after it); an InputError naming Output directory and the file where it
+   * cannot be opened (on several processes each writes its own piece).
+   */
+  std::ofstream
+  output_stream(const std::string &path);
+
+
+
   class AtomicFile
   {
   public:

@@ -105,6 +105,20 @@ namespace dieflow
       std::string mismatch;
     };
 
+    /**
+     * Called where a process caught an error that ends the run: whether
+     * every process reached this call within @p seconds (an MPI_Ibarrier on
+     * a communicator kept for it alone, so that it cannot meet a collective
+     * of the run). An error every process raises alike (the deck's, or one
+     * of the replicated state) ends the run on all of them with one line,
+     * from the first; an error of this process alone (a file it could not
+     * write, say), the others waiting for it in a collective of the run,
+     * does not, and this process must end them (MPI_Abort) or they wait
+     * for ever. True on one process.
+     */
+    bool
+    failed_together(double seconds = 10);
+
     /// The processes of this run (1 without a Session), and this one's rank.
     unsigned int
     n();
