@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -375,6 +376,20 @@ namespace dieflow
       double        value = 0;
       return (in >> value) ? value : 0;
     }
+
+    /// The value of @p key in a memory.stat file (0 if none).
+    double
+    stat_value(const std::string &file, const std::string &key)
+    {
+      std::ifstream in(file);
+      std::string   name;
+      double        value = 0;
+      while (in >> name >> value)
+        if (name == key)
+          return value;
+      return 0;
+    }
+
   } // namespace
 
 
@@ -395,6 +410,49 @@ namespace dieflow
 
 
   double
+  control_group_room(const std::string &process_groups, const std::string &groups_root)
+  {
+    std::ifstream groups(process_groups);
+    double        room = 0;
+    for (std::string line; std::getline(groups, line);)
+      {
+        // "ID:CONTROLLERS:PATH": v2 has ID 0 and no controllers.
+        const auto first = line.find(':'), second = line.find(':', first + 1);
+        if (first == std::string::npos || second == std::string::npos)
+          continue;
+        const std::string controllers = "," + line.substr(first + 1, second - first - 1) + ",";
+        const bool        v2          = controllers == ",,";
+        if (!v2 && controllers.find(",memory,") == std::string::npos)
+          continue;
+        const std::string root = v2 ? groups_root : groups_root + "/memory";
+        const std::string limit_file = v2 ? "memory.max" : "memory.limit_in_bytes";
+        // A v2 tree without the memory controller (hybrid mounts) has no limit files.
+        for (std::filesystem::path group = line.substr(second + 1);; group = group.parent_path())
+          {
+            const std::string directory = root + group.string();
+            std::ifstream     limit_in(directory + "/" + limit_file);
+            std::string       text;
+            // No limit: v2 says "max", v1 a number near 2^63.
+            if (limit_in >> text && text != "max" && std::stod(text) < 1e18)
+              {
+                const double usage =
+                  v2 ? number_in(directory + "/memory.current") -
+                         stat_value(directory + "/memory.stat", "inactive_file") :
+                       number_in(directory + "/memory.usage_in_bytes") -
+                         stat_value(directory + "/memory.stat", "total_inactive_file");
+                const double left = std::max(std::stod(text) - usage, 1.);
+                room              = room == 0 ? left : std::min(room, left);
+              }
+            if (group == group.root_path() || group.empty())
+              break;
+          }
+      }
+    return room;
+  }
+
+
+
+  double
   LinearSolver::machine_memory()
   {
     // The machine's free memory (MemAvailable) ...
@@ -404,15 +462,11 @@ namespace dieflow
     while (meminfo >> key >> kilobytes && key != "MemAvailable:")
       meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
     double available = key == "MemAvailable:" && kilobytes > 0 ? 1024. * kilobytes : 0.;
-    // ... and no more than the control group's limit leaves (a container's).
-    std::ifstream max("/sys/fs/cgroup/memory.max");
-    std::string   text;
-    if (max >> text && text != "max")
-      {
-        const double room = std::max(std::stod(text) - number_in("/sys/fs/cgroup/memory.current"), 1.);
-        if (available == 0 || room < available)
-          available = room;
-      }
+    // ... and no more than the control groups' limits leave (a container's,
+    // a batch job's).
+    const double room = control_group_room();
+    if (room > 0 && (available == 0 || room < available))
+      available = room;
     return available;
   }
 

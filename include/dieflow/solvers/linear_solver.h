@@ -21,6 +21,25 @@ namespace dieflow
   double
   mapped_memory();
 
+  /**
+   * What the memory control groups of this process still let it and its
+   * group take, in bytes; 0 where none limits it. A batch scheduler's job
+   * (Slurm's --mem) or a container is such a group, and its processes are
+   * killed at its limit, whatever the machine has free. The tightest room
+   * of the process's group and of every group above it: limit less usage,
+   * the usage without the inactive file cache (which the kernel reclaims
+   * before it kills; the figure `docker stats` shows). Control groups v2
+   * (memory.max, memory.current, inactive_file of memory.stat) and v1 (the
+   * memory controller's memory.limit_in_bytes, memory.usage_in_bytes,
+   * total_inactive_file), the groups read from @p process_groups (the
+   * kernel's /proc/self/cgroup), their files under @p groups_root (v1's
+   * memory controller under its memory/); inside a container's namespace
+   * the group is the root of its own tree.
+   */
+  double
+  control_group_room(const std::string &process_groups = "/proc/self/cgroup",
+                     const std::string &groups_root    = "/sys/fs/cgroup");
+
   /// A linear system that could not be solved (singular, or out of memory).
   class SolverFailure : public std::runtime_error
   {
@@ -332,8 +351,8 @@ namespace dieflow
     available_memory();
 
     /// What available_memory() takes from the machine, shared by its
-    /// processes: MemAvailable, no more than the control group leaves (0
-    /// where unknown).
+    /// processes: MemAvailable, no more than the control groups leave
+    /// (control_group_room(); 0 where unknown).
     static double
     machine_memory();
 
