@@ -291,11 +291,11 @@ namespace dieflow
     /// first process where every process failed, else from this one,
     /// which then ends the others (processes::failed_together()).
     int
-    end_with(const std::string &kind, const std::string &message, const int code, const bool first)
+    end_with(const std::string &kind, const std::string &message, const int code)
     {
       if (processes::failed_together())
         {
-          if (first)
+          if (processes::writes_output())
             std::cerr << "dieflow: " << kind << ": " << message << std::endl;
           return code;
         }
@@ -386,17 +386,17 @@ namespace dieflow
     // ever: that process says it and ends them all.
     catch (const InputError &error)
       {
-        return end_with("error", error.what(), exit_bad_input, first);
+        return end_with("error", error.what(), exit_bad_input);
       }
     catch (const dealii::ExceptionBase &exc)
       {
         // ParameterHandler reports unknown entries, bad values and syntax
         // errors of the deck through deal.II exceptions.
-        return end_with("error", deck_error_message(exc, argument), exit_bad_input, first);
+        return end_with("error", deck_error_message(exc, argument), exit_bad_input);
       }
     catch (const std::exception &exc)
       {
-        return end_with("internal error", one_line_message(exc), exit_internal, first);
+        return end_with("internal error", one_line_message(exc), exit_internal);
       }
   }
 } // namespace dieflow

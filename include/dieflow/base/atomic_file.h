@@ -8,13 +8,6 @@
 namespace dieflow
 {
   /**
-   * An output file that a reader sees whole or not at all: written under
-   * the name PATH.partial and renamed to PATH by commit() (rename is atomic
-   * within a directory), so a run killed while writing leaves the previous
-   * complete file, never a truncated one. Without commit() (an exception on
-   * the way) the partial file is removed.
-   */
-  /**
    * A stream to @p path for a file written whole at once whose reader is
    * told of it later (a .vtu piece, listed by the .pvtu and .pvd written
    * after it); an InputError naming Output directory and the file where it
@@ -25,6 +18,13 @@ namespace dieflow
 
 
 
+  /**
+   * An output file that a reader sees whole or not at all: written under
+   * the name PATH.partial and renamed to PATH by commit() (rename is atomic
+   * within a directory), so a run killed while writing leaves the previous
+   * complete file, never a truncated one. Without commit() (an exception on
+   * the way) the partial file is removed.
+   */
   class AtomicFile
   {
   public:
